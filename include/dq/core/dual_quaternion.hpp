@@ -1,0 +1,182 @@
+// Dual quaternions Q = q_r + ε q_d (real part first, then dual part).
+//
+// A unit dual quaternion (|q_r| = 1, q_r · q_d = 0) is a rigid transform: "rotate by r, then
+// translate by t" is Q = r + ε ½ t r, and t = 2 q_d q_r*. Products compose like matrices:
+// (A B) applies B first. One type serves the whole algebra; functions that need the unit
+// condition say so (see docs/design.md for why there is no separate unit type).
+#pragma once
+
+#include <cmath>
+#include <ostream>
+
+#include "dq/core/dual.hpp"
+#include "dq/core/quaternion.hpp"
+
+namespace dq {
+
+/// A line in Plücker coordinates: unit direction l and moment m = p × l for any point p on it.
+template <class T>
+struct PluckerLine {
+  Vec3<T> direction;
+  Vec3<T> moment;
+
+  /// The line through point p with direction d (normalized here).
+  static PluckerLine through(const Vec3<T>& p, const Vec3<T>& d) {
+    const Vec3<T> l = normalized(d);
+    return {l, cross(p, l)};
+  }
+  /// The point of the line closest to the origin: l × m (for unit l).
+  constexpr Vec3<T> closest_point_to_origin() const noexcept { return cross(direction, moment); }
+};
+
+/// A plane {x : n · x = d} with unit normal n and signed distance d from the origin.
+template <class T>
+struct Plane {
+  Vec3<T> normal{T(0), T(0), T(1)};
+  T distance{};
+};
+
+template <class T>
+struct DualQuaternion {
+  Quaternion<T> real{};                          ///< q_r: the rotation
+  Quaternion<T> dual{T(0), T(0), T(0), T(0)};    ///< q_d = ½ t q_r for a rigid transform
+
+  constexpr DualQuaternion() noexcept = default;  ///< the identity
+  constexpr DualQuaternion(const Quaternion<T>& r, const Quaternion<T>& d) noexcept : real(r), dual(d) {}
+  /// From the eight components in the order q_r (w, x, y, z), q_d (w, x, y, z).
+  constexpr DualQuaternion(const T& rw, const T& rx, const T& ry, const T& rz, const T& dw, const T& dx,
+                           const T& dy, const T& dz) noexcept
+      : real(rw, rx, ry, rz), dual(dw, dx, dy, dz) {}
+
+  static constexpr DualQuaternion identity() noexcept { return {}; }
+  /// A pure rotation by the unit quaternion r.
+  static constexpr DualQuaternion from_rotation(const Quaternion<T>& r) noexcept {
+    return {r, Quaternion<T>(T(0), T(0), T(0), T(0))};
+  }
+  /// A pure translation: 1 + ε ½ t.
+  static constexpr DualQuaternion from_translation(const Vec3<T>& t) noexcept {
+    return {Quaternion<T>::identity(), Quaternion<T>::pure(t * T(0.5))};
+  }
+  /// Rotate by the unit quaternion r, then translate by t: r + ε ½ t r.
+  static constexpr DualQuaternion from_rotation_translation(const Quaternion<T>& r, const Vec3<T>& t) noexcept {
+    return {r, Quaternion<T>::pure(t * T(0.5)) * r};
+  }
+
+  // ---- algebra --------------------------------------------------------------------------------
+  friend constexpr DualQuaternion operator-(const DualQuaternion& q) noexcept { return {-q.real, -q.dual}; }
+  friend constexpr DualQuaternion operator+(const DualQuaternion& a, const DualQuaternion& b) noexcept {
+    return {a.real + b.real, a.dual + b.dual};
+  }
+  friend constexpr DualQuaternion operator-(const DualQuaternion& a, const DualQuaternion& b) noexcept {
+    return {a.real - b.real, a.dual - b.dual};
+  }
+  friend constexpr DualQuaternion operator*(const DualQuaternion& a, const T& s) noexcept {
+    return {a.real * s, a.dual * s};
+  }
+  friend constexpr DualQuaternion operator*(const T& s, const DualQuaternion& a) noexcept { return a * s; }
+  friend constexpr DualQuaternion operator/(const DualQuaternion& a, const T& s) noexcept {
+    return {a.real / s, a.dual / s};
+  }
+  /// Multiplication by a dual number s = a + εb: (a + εb)(q_r + ε q_d) = a q_r + ε (a q_d + b q_r).
+  friend constexpr DualQuaternion operator*(const Dual<T>& s, const DualQuaternion& q) noexcept {
+    return {q.real * s.real, q.dual * s.real + q.real * s.dual};
+  }
+  /// The product: q_r = a_r b_r, q_d = a_r b_d + a_d b_r (three Hamilton products).
+  friend constexpr DualQuaternion operator*(const DualQuaternion& a, const DualQuaternion& b) noexcept {
+    return {a.real * b.real, a.real * b.dual + a.dual * b.real};
+  }
+  constexpr DualQuaternion& operator*=(const DualQuaternion& o) noexcept { return *this = *this * o; }
+  constexpr DualQuaternion& operator+=(const DualQuaternion& o) noexcept { return *this = *this + o; }
+
+  /// Exact, component-wise (Q and −Q differ; use approx_equal for transforms).
+  friend constexpr bool operator==(const DualQuaternion& a, const DualQuaternion& b) noexcept {
+    return a.real == b.real && a.dual == b.dual;
+  }
+
+  /// Q* = q_r* + ε q_d*, the quaternion conjugate; the inverse of a unit dual quaternion.
+  constexpr DualQuaternion conjugate() const noexcept { return {real.conjugate(), dual.conjugate()}; }
+  /// Q• = q_r − ε q_d, the dual conjugate.
+  constexpr DualQuaternion dual_conjugate() const noexcept { return {real, -dual}; }
+  /// Q̄ = q_r* − ε q_d*, the combined conjugate used to transform points.
+  constexpr DualQuaternion combined_conjugate() const noexcept { return {real.conjugate(), -dual.conjugate()}; }
+
+  /// Q Q* = |q_r|² + ε 2 (q_r · q_d), a dual number.
+  constexpr Dual<T> squared_norm() const noexcept { return {dot(real, real), T(2) * dot(real, dual)}; }
+  /// The dual-number norm ‖Q‖ = |q_r| + ε (q_r · q_d)/|q_r|.
+  Dual<T> norm() const {
+    const T n = real.norm();
+    return {n, dot(real, dual) / n};
+  }
+
+  /// Q/‖Q‖: the nearest unit dual quaternion, enforcing both |q_r| = 1 and q_r · q_d = 0 (a plain
+  /// division by |q_r|, as in GLM or the Kenwright listing, leaves q_r · q_d ≠ 0). A zero real
+  /// part gives the identity (documented choice); non-finite input gives non-finite output.
+  DualQuaternion normalized() const {
+    const T n = real.norm();
+    if (n == T(0)) return identity();
+    const Quaternion<T> r = real / n;
+    const Quaternion<T> d = dual / n;
+    return {r, d - r * dot(r, d)};
+  }
+  void normalize() { *this = normalized(); }
+
+  /// Whether |q_r| = 1 and q_r · q_d = 0 within `tolerance` (relative to the translation size).
+  bool is_unit(const T& tolerance) const {
+    using std::abs;
+    const T rr = dot(real, real);
+    return abs(rr - T(1)) <= tolerance && abs(dot(real, dual)) <= tolerance * (T(1) + dual.norm());
+  }
+
+  /// The inverse of any dual quaternion with q_r ≠ 0: q_r⁻¹ − ε q_r⁻¹ q_d q_r⁻¹.
+  constexpr DualQuaternion inverse() const noexcept {
+    const Quaternion<T> ri = real.inverse();
+    return {ri, -(ri * dual * ri)};
+  }
+  /// The inverse of a unit dual quaternion: its quaternion conjugate (no division).
+  constexpr DualQuaternion inverse_unit() const noexcept { return conjugate(); }
+
+  // ---- rigid-transform access (unit dual quaternions) -------------------------------------------
+  constexpr const Quaternion<T>& rotation() const noexcept { return real; }
+  /// t = 2 q_d q_r* (vector part), for a unit dual quaternion.
+  constexpr Vec3<T> translation() const noexcept {
+    const Vec3<T> vr = real.vec(), vd = dual.vec();
+    return (vd * real.w - vr * dual.w + cross(vr, vd)) * T(2);
+  }
+
+  /// R p + t, the fast form for a unit dual quaternion.
+  constexpr Vec3<T> transform_point(const Vec3<T>& p) const noexcept { return real.rotate(p) + translation(); }
+  /// Q (1 + ε p) Q̄ taken literally (the seeds' definition; slower, used as the reference form).
+  constexpr Vec3<T> transform_point_sandwich(const Vec3<T>& p) const noexcept {
+    const DualQuaternion point{Quaternion<T>::identity(), Quaternion<T>::pure(p)};
+    return (*this * point * combined_conjugate()).dual.vec();
+  }
+  /// A direction (free vector) is only rotated.
+  constexpr Vec3<T> transform_direction(const Vec3<T>& v) const noexcept { return real.rotate(v); }
+  /// Q (l + ε m) Q*: l' = R l, m' = R m + t × l'.
+  constexpr PluckerLine<T> transform_line(const PluckerLine<T>& line) const noexcept {
+    const Vec3<T> l = real.rotate(line.direction);
+    return {l, real.rotate(line.moment) + cross(translation(), l)};
+  }
+  /// The plane n · x = d maps to n' · x = d + n' · t with n' = R n.
+  constexpr Plane<T> transform_plane(const Plane<T>& plane) const noexcept {
+    const Vec3<T> n = real.rotate(plane.normal);
+    return {n, plane.distance + dot(n, translation())};
+  }
+
+  friend std::ostream& operator<<(std::ostream& os, const DualQuaternion& q) {
+    return os << '[' << q.real << " + ε" << q.dual << ']';
+  }
+};
+
+/// Approximate comparison of all eight components; with SignPolicy::same_rotation, Q and −Q
+/// (the same rigid transform) compare equal.
+template <class T>
+bool approx_equal(const DualQuaternion<T>& a, const DualQuaternion<T>& b, const T& tolerance,
+                  SignPolicy policy = SignPolicy::exact) {
+  auto close = [&](const DualQuaternion<T>& u) {
+    return approx_equal(a.real, u.real, tolerance) && approx_equal(a.dual, u.dual, tolerance);
+  };
+  return close(b) || (policy == SignPolicy::same_rotation && close(-b));
+}
+
+}  // namespace dq

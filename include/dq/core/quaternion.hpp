@@ -1,0 +1,336 @@
+// Quaternions w + x i + y j + z k with the Hamilton product (ij = k).
+//
+// Stored as four named members in the order w, x, y, z; constructors and printing use that order.
+// A unit quaternion (cos θ/2, n sin θ/2) rotates vectors actively, right-handed: v' = q v q*.
+// q and −q are the same rotation; `canonical()` picks the representative with w ≥ 0.
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <ostream>
+#include <type_traits>
+
+#include "dq/core/matrix.hpp"
+#include "dq/core/scalar.hpp"
+#include "dq/core/vec3.hpp"
+
+namespace dq {
+
+namespace detail {
+/// (sin a, cos a), exact (0, ±1 exactly) when a is a multiple of π/2 as rounded in T, so that
+/// axis-angle rotations by 0, π and 2π give exact quaternions. Derivative scalars skip the table.
+template <class T>
+struct SinCos {
+  T sin, cos;
+};
+template <class T>
+SinCos<T> sin_cos(const T& a) {
+  using std::cos;
+  using std::sin;
+  if constexpr (std::is_floating_point_v<T>) {
+    constexpr T half_pi = std::numbers::pi_v<T> / 2;
+    using std::abs;
+    using std::round;
+    const T k = round(a / half_pi);
+    if (abs(k) < T(1 << 20) && k * half_pi == a) {
+      const long long quadrant = static_cast<long long>(k) & 3;  // two's complement: mod 4
+      constexpr T one = 1, zero = 0;
+      switch (quadrant) {
+        case 0: return {zero, one};
+        case 1: return {one, zero};
+        case 2: return {zero, -one};
+        default: return {-one, zero};
+      }
+    }
+  }
+  return {sin(a), cos(a)};
+}
+/// sin(x)/x, accurate for small |x| (Taylor series below the fourth root of epsilon).
+template <class T>
+T sinc(const T& x) {
+  using std::abs;
+  using std::sin;
+  using std::sqrt;
+  static const real_t<T> threshold = sqrt(sqrt(epsilon<T>()));
+  if (abs(value_of(x)) < threshold) return T(1) - x * x / T(6);
+  return sin(x) / x;
+}
+}  // namespace detail
+
+template <class T>
+struct AxisAngle {
+  Vec3<T> axis{T(1), T(0), T(0)};  ///< unit axis; (1, 0, 0) for the identity
+  T angle{};                       ///< radians, in [0, π] when produced by dqkit
+};
+
+template <class T>
+struct Quaternion {
+  T w{1}, x{}, y{}, z{};
+
+  constexpr Quaternion() noexcept = default;  ///< the identity
+  constexpr Quaternion(const T& w_, const T& x_, const T& y_, const T& z_) noexcept : w(w_), x(x_), y(y_), z(z_) {}
+  /// From a scalar part and a vector part.
+  constexpr Quaternion(const T& w_, const Vec3<T>& v) noexcept : w(w_), x(v.x), y(v.y), z(v.z) {}
+
+  static constexpr Quaternion identity() noexcept { return {}; }
+  /// The pure quaternion (0, v).
+  static constexpr Quaternion pure(const Vec3<T>& v) noexcept { return {T(0), v}; }
+
+  constexpr Vec3<T> vec() const noexcept { return {x, y, z}; }
+
+  // ---- algebra --------------------------------------------------------------------------------
+  friend constexpr Quaternion operator-(const Quaternion& q) noexcept { return {-q.w, -q.x, -q.y, -q.z}; }
+  friend constexpr Quaternion operator+(const Quaternion& a, const Quaternion& b) noexcept {
+    return {a.w + b.w, a.x + b.x, a.y + b.y, a.z + b.z};
+  }
+  friend constexpr Quaternion operator-(const Quaternion& a, const Quaternion& b) noexcept {
+    return {a.w - b.w, a.x - b.x, a.y - b.y, a.z - b.z};
+  }
+  friend constexpr Quaternion operator*(const Quaternion& a, const T& s) noexcept {
+    return {a.w * s, a.x * s, a.y * s, a.z * s};
+  }
+  friend constexpr Quaternion operator*(const T& s, const Quaternion& a) noexcept { return a * s; }
+  friend constexpr Quaternion operator/(const Quaternion& a, const T& s) noexcept {
+    return {a.w / s, a.x / s, a.y / s, a.z / s};
+  }
+  /// The Hamilton product: 16 multiplications, 12 additions.
+  friend constexpr Quaternion operator*(const Quaternion& a, const Quaternion& b) noexcept {
+    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+            a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+  }
+  constexpr Quaternion& operator+=(const Quaternion& o) noexcept { return *this = *this + o; }
+  constexpr Quaternion& operator-=(const Quaternion& o) noexcept { return *this = *this - o; }
+  constexpr Quaternion& operator*=(const Quaternion& o) noexcept { return *this = *this * o; }
+  constexpr Quaternion& operator*=(const T& s) noexcept { return *this = *this * s; }
+
+  /// Exact, component-wise: q and −q are different quaternions (use approx_equal for rotations).
+  friend constexpr bool operator==(const Quaternion& a, const Quaternion& b) noexcept {
+    return a.w == b.w && a.x == b.x && a.y == b.y && a.z == b.z;
+  }
+
+  constexpr Quaternion conjugate() const noexcept { return {w, -x, -y, -z}; }
+  constexpr T squared_norm() const noexcept { return w * w + x * x + y * y + z * z; }
+
+  /// |q|, without overflow or underflow for huge or tiny components.
+  T norm() const {
+    using std::sqrt;
+    const T n2 = squared_norm();
+    if (in_safe_range(n2)) return sqrt(n2);
+    const T s = max_abs();
+    if (!(s > T(0)) || !(value_of(s) < std::numeric_limits<real_t<T>>::infinity())) return s;  // 0, NaN, ∞
+    return s * sqrt((*this / s).squared_norm());
+  }
+
+  /// q/|q|. The zero quaternion has no direction: the result is the identity (documented choice,
+  /// never NaN). Non-finite input gives non-finite output (NaN propagates). Components near the
+  /// limits of T (huge, tiny or denormal) are rescaled first, so the result is still unit.
+  Quaternion normalized() const {
+    using std::sqrt;
+    const T n2 = squared_norm();
+    if (in_safe_range(n2)) return *this / sqrt(n2);
+    if (n2 == T(0) && max_abs() == T(0)) return identity();
+    const Quaternion u = *this / max_abs();  // the largest component becomes ±1
+    return u / sqrt(u.squared_norm());
+  }
+  void normalize() { *this = normalized(); }
+
+  /// q⁻¹ = q*/|q|²; the zero quaternion has no inverse (result non-finite).
+  constexpr Quaternion inverse() const noexcept { return conjugate() / squared_norm(); }
+
+  /// The representative of ±q with w ≥ 0; where w = 0, the first non-zero of x, y, z positive.
+  constexpr Quaternion canonical() const noexcept {
+    const bool flip = w < T(0) || (w == T(0) && (x < T(0) || (x == T(0) && (y < T(0) || (y == T(0) && z < T(0))))));
+    return flip ? -*this : *this;
+  }
+
+  // ---- rotations --------------------------------------------------------------------------------
+  /// Rotation by `angle` radians about `axis` (normalized here; a zero axis gives the identity).
+  /// Angles that are multiples of π (0, π, 2π, ...) give exact components.
+  static Quaternion from_axis_angle(const Vec3<T>& axis, const T& angle) {
+    const T n = norm_of(axis);
+    if (n == T(0)) return identity();
+    const auto sc = detail::sin_cos(angle / T(2));
+    return {sc.cos, axis * (sc.sin / n)};
+  }
+  static Quaternion from_axis_angle(const AxisAngle<T>& aa) { return from_axis_angle(aa.axis, aa.angle); }
+
+  /// Axis and angle of the canonical representative: angle in [0, π], computed with atan2 so
+  /// that it is accurate near 0 and π (acos is not). The identity gives axis (1, 0, 0), angle 0.
+  /// Assumes a unit quaternion (a non-unit one gives the axis-angle of its direction).
+  AxisAngle<T> to_axis_angle() const {
+    using std::atan2;
+    const Quaternion c = canonical();
+    const T s = norm_of(c.vec());
+    if (s == T(0)) return {};
+    return {c.vec() / s, T(2) * atan2(s, c.w)};
+  }
+
+  /// From a rotation vector (axis × angle, radians); accurate near zero.
+  static Quaternion from_rotation_vector(const Vec3<T>& v) {
+    using std::cos;
+    const T theta = norm_of(v);
+    const T half = theta / T(2);
+    return {cos(half), v * (detail::sinc(half) / T(2))};
+  }
+  /// The rotation vector of the canonical representative, |v| ∈ [0, π].
+  Vec3<T> to_rotation_vector() const {
+    using std::atan2;
+    const Quaternion c = canonical();
+    const T s = norm_of(c.vec());
+    if (s == T(0)) return {};
+    return c.vec() * (T(2) * atan2(s, c.w) / s);
+  }
+
+  /// Rotates v (q unit): v + 2w (u × v) + 2 u × (u × v), 15 multiplications, 15 additions.
+  constexpr Vec3<T> rotate(const Vec3<T>& v) const noexcept {
+    const Vec3<T> u = vec();
+    const Vec3<T> t = cross(u, v) * T(2);
+    return v + t * w + cross(u, t);
+  }
+  /// Rotates v by the sandwich q (0, v) q* (two Hamilton products), the textbook form.
+  constexpr Vec3<T> rotate_sandwich(const Vec3<T>& v) const noexcept { return (*this * pure(v) * conjugate()).vec(); }
+
+  /// The shortest rotation taking direction a to direction b (neither need be unit). For
+  /// antiparallel directions the rotation is by π about an axis orthogonal to a (any is valid;
+  /// dqkit picks the one from a's smallest component). A zero input gives the identity.
+  static Quaternion from_two_vectors(const Vec3<T>& a, const Vec3<T>& b) {
+    const T na = norm_of(a), nb = norm_of(b);
+    if (na == T(0) || nb == T(0)) return identity();
+    const Vec3<T> ua = a / na, ub = b / nb;
+    const T c = dot(ua, ub);
+    if (value_of(c) < real_t<T>(-1) + real_t<T>(8) * epsilon<T>()) {
+      // Near antiparallel the cross product loses its direction: rotate by π about ⟂ a, then
+      // correct the small remainder exactly.
+      const Quaternion half_turn = pure(any_orthogonal(ua));
+      const Vec3<T> turned = half_turn.rotate(ua);
+      return (from_unit_close(turned, ub) * half_turn).normalized();
+    }
+    return from_unit_close(ua, ub);
+  }
+
+  /// The 3x3 rotation matrix of a unit quaternion (CONVENTIONS.md).
+  constexpr Mat3<T> to_matrix() const noexcept {
+    const T xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z;
+    const T wx = w * x, wy = w * y, wz = w * z;
+    return Mat3<T>::from_rows(T(1) - T(2) * (yy + zz), T(2) * (xy - wz), T(2) * (xz + wy),  //
+                              T(2) * (xy + wz), T(1) - T(2) * (xx + zz), T(2) * (yz - wx),  //
+                              T(2) * (xz - wy), T(2) * (yz + wx), T(1) - T(2) * (xx + yy));
+  }
+
+  /// The unit quaternion of a rotation matrix (Shepperd's method: the largest of the four
+  /// diagonal combinations is used, so no branch divides by a small number). Returns the
+  /// canonical representative. A matrix that is not orthonormal gives the rotation of its
+  /// nearest quaternion in the least-squares sense only approximately: orthonormalize first.
+  static Quaternion from_matrix(const Mat3<T>& m) {
+    using std::sqrt;
+    const T tr = m(0, 0) + m(1, 1) + m(2, 2);
+    Quaternion q;
+    if (tr >= m(0, 0) && tr >= m(1, 1) && tr >= m(2, 2)) {
+      const T s = sqrt(T(1) + tr) * T(2);  // s = 4w
+      q = {s / T(4), (m(2, 1) - m(1, 2)) / s, (m(0, 2) - m(2, 0)) / s, (m(1, 0) - m(0, 1)) / s};
+    } else if (m(0, 0) >= m(1, 1) && m(0, 0) >= m(2, 2)) {
+      const T s = sqrt(T(1) + m(0, 0) - m(1, 1) - m(2, 2)) * T(2);  // s = 4x
+      q = {(m(2, 1) - m(1, 2)) / s, s / T(4), (m(0, 1) + m(1, 0)) / s, (m(0, 2) + m(2, 0)) / s};
+    } else if (m(1, 1) >= m(2, 2)) {
+      const T s = sqrt(T(1) + m(1, 1) - m(0, 0) - m(2, 2)) * T(2);  // s = 4y
+      q = {(m(0, 2) - m(2, 0)) / s, (m(0, 1) + m(1, 0)) / s, s / T(4), (m(1, 2) + m(2, 1)) / s};
+    } else {
+      const T s = sqrt(T(1) + m(2, 2) - m(0, 0) - m(1, 1)) * T(2);  // s = 4z
+      q = {(m(1, 0) - m(0, 1)) / s, (m(0, 2) + m(2, 0)) / s, (m(1, 2) + m(2, 1)) / s, s / T(4)};
+    }
+    return q.normalized().canonical();
+  }
+
+  friend std::ostream& operator<<(std::ostream& os, const Quaternion& q) {
+    return os << '(' << q.w << ", " << q.x << ", " << q.y << ", " << q.z << ')';
+  }
+
+ private:
+  static bool in_safe_range(const T& n2) {
+    const real_t<T> v = value_of(n2);
+    return v >= std::numeric_limits<real_t<T>>::min() && v <= std::numeric_limits<real_t<T>>::max();
+  }
+  T max_abs() const {
+    using std::abs;
+    T s = abs(w);
+    for (const T* c : {&x, &y, &z}) s = abs(*c) > s ? abs(*c) : s;
+    return s;
+  }
+  static T norm_of(const Vec3<T>& v) {
+    using std::sqrt;
+    return sqrt(dot(v, v));
+  }
+  // Unit a, b not antiparallel: q = (1 + a·b, a × b) normalized (the half-way construction).
+  static Quaternion from_unit_close(const Vec3<T>& a, const Vec3<T>& b) {
+    return Quaternion(T(1) + dot(a, b), cross(a, b)).normalized();
+  }
+};
+
+template <class T>
+constexpr T dot(const Quaternion<T>& a, const Quaternion<T>& b) noexcept {
+  return a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+/// exp(q) = e^w (cos|v|, v̂ sin|v|), for any quaternion.
+template <class T>
+Quaternion<T> exp(const Quaternion<T>& q) {
+  using std::cos;
+  using std::exp;
+  using std::sqrt;
+  const T theta = sqrt(dot(q.vec(), q.vec()));
+  const T ew = exp(q.w);
+  return {ew * cos(theta), q.vec() * (ew * detail::sinc(theta))};
+}
+
+/// log(q) = (ln|q|, v̂ atan2(|v|, w)), the principal logarithm; log(0) has w = −∞. For a
+/// negative real q (a rotation by 2π) the vector part is π along x, one of the valid choices.
+template <class T>
+Quaternion<T> log(const Quaternion<T>& q) {
+  using std::atan2;
+  using std::log;
+  using std::sqrt;
+  const T s = sqrt(dot(q.vec(), q.vec()));
+  const T n = q.norm();
+  const T angle = atan2(s, q.w);
+  if (s == T(0)) {
+    if (q.w < T(0)) return {log(n), pi_v<T> * T(1), T(0), T(0)};
+    return {log(n), T(0), T(0), T(0)};
+  }
+  return {log(n), q.vec() * (angle / s)};
+}
+
+/// q^t = exp(t log q); for unit q this is the rotation by t times q's angle about q's axis.
+template <class T>
+Quaternion<T> pow(const Quaternion<T>& q, const T& t) {
+  return exp(log(q) * t);
+}
+
+/// The rotation angle between a and b (unit), in [0, π]: the angle of a* b, with q ≡ −q.
+template <class T>
+T angular_distance(const Quaternion<T>& a, const Quaternion<T>& b) {
+  using std::abs;
+  using std::atan2;
+  using std::sqrt;
+  const Quaternion<T> d = a.conjugate() * b;
+  return T(2) * atan2(sqrt(dot(d.vec(), d.vec())), abs(d.w));
+}
+
+/// Whether q and −q count as equal in a comparison.
+enum class SignPolicy {
+  exact,          ///< compare the four components as they are (algebraic equality)
+  same_rotation,  ///< q and −q are the same rotation
+};
+
+/// Approximate comparison with an explicit tolerance on every component (max-norm).
+template <class T>
+bool approx_equal(const Quaternion<T>& a, const Quaternion<T>& b, const T& tolerance,
+                  SignPolicy policy = SignPolicy::exact) {
+  using std::abs;
+  auto close = [&](const Quaternion<T>& u) {
+    return abs(a.w - u.w) <= tolerance && abs(a.x - u.x) <= tolerance && abs(a.y - u.y) <= tolerance &&
+           abs(a.z - u.z) <= tolerance;
+  };
+  return close(b) || (policy == SignPolicy::same_rotation && close(-b));
+}
+
+}  // namespace dq

@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Installs the Debian packages dqkit builds and tests with, if any is missing (idempotent).
+set -euo pipefail
+packages=(cmake g++ make pkg-config libgtest-dev libbenchmark-dev libeigen3-dev libglm-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "dqkit: installing ${missing[*]}"
+  sudo_cmd=()
+  [ "$(id -u)" -ne 0 ] && sudo_cmd=(sudo)
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi

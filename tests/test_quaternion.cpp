@@ -1,0 +1,232 @@
+// Quaternions: Hamilton algebra, rotations, axis-angle, exp/log/pow, edge cases; float, double,
+// long double.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "support.hpp"
+
+namespace {
+
+using namespace dq;
+using dq::test::max_abs_diff;
+using dq::test::Random;
+using dq::test::tol;
+
+template <class T>
+class QuaternionTyped : public ::testing::Test {};
+TYPED_TEST_SUITE(QuaternionTyped, dq::test::FloatTypes);
+
+TEST(Quaternion, HamiltonUnits) {
+  const Quaternion<double> i(0, 1, 0, 0), j(0, 0, 1, 0), k(0, 0, 0, 1), minus_one(-1, 0, 0, 0);
+  EXPECT_EQ(i * i, minus_one);
+  EXPECT_EQ(j * j, minus_one);
+  EXPECT_EQ(k * k, minus_one);
+  EXPECT_EQ(i * j * k, minus_one);
+  EXPECT_EQ(i * j, k);
+  EXPECT_EQ(j * k, i);
+  EXPECT_EQ(k * i, j);
+  EXPECT_EQ(j * i, -k);
+}
+
+TYPED_TEST(QuaternionTyped, ProductIsAssociativeAndNormIsMultiplicative) {
+  using T = TypeParam;
+  Random rng(21);
+  for (int n = 0; n < 2000; ++n) {
+    const Quaternion<T> a(rng.uniform<T>(-2, 2), rng.uniform<T>(-2, 2), rng.uniform<T>(-2, 2), rng.uniform<T>(-2, 2));
+    const Quaternion<T> b = rng.rotation<T>() * T(1.5), c = rng.rotation<T>();
+    EXPECT_LE(max_abs_diff((a * b) * c, a * (b * c)), tol<T>(64));
+    DQ_EXPECT_NEAR((a * b).norm(), a.norm() * b.norm(), tol<T>(64));
+    EXPECT_LE(max_abs_diff((a * b).conjugate(), b.conjugate() * a.conjugate()), tol<T>(16));
+    EXPECT_LE(max_abs_diff(a * a.inverse(), Quaternion<T>::identity()), tol<T>(64));
+  }
+}
+
+TYPED_TEST(QuaternionTyped, RotationFormsAgree) {
+  using T = TypeParam;
+  Random rng(22);
+  for (int n = 0; n < 2000; ++n) {
+    const Quaternion<T> q = rng.rotation<T>();
+    const Vec3<T> v = rng.vec3<T>(3);
+    const Vec3<T> a = q.rotate(v), b = q.rotate_sandwich(v), c = q.to_matrix() * v;
+    EXPECT_LE(max_abs_diff(a, b), tol<T>(64));
+    EXPECT_LE(max_abs_diff(a, c), tol<T>(64));
+    DQ_EXPECT_NEAR(norm(a), norm(v), tol<T>(64));
+    EXPECT_LE(max_abs_diff((-q).rotate(v), a), tol<T>(64));  // q and −q: the same rotation
+  }
+}
+
+TEST(Quaternion, MatrixColumnsAreRotatedBasisVectors) {
+  Random rng(23);
+  for (int n = 0; n < 500; ++n) {
+    const Quaternion<double> q = rng.rotation<double>();
+    const Mat3<double> m = q.to_matrix();
+    for (int c = 0; c < 3; ++c) {
+      Vec3<double> e;
+      e[c] = 1;
+      const Vec3<double> col = q.rotate_sandwich(e);
+      for (int r = 0; r < 3; ++r) EXPECT_NEAR(m(r, c), col[r], 1e-15);
+    }
+  }
+}
+
+TYPED_TEST(QuaternionTyped, MatrixRoundTripIncludingHalfTurns) {
+  using T = TypeParam;
+  Random rng(24);
+  for (int n = 0; n < 2000; ++n) {
+    const Quaternion<T> q = rng.rotation<T>();
+    EXPECT_LE(dq::test::rotation_diff(Quaternion<T>::from_matrix(q.to_matrix()), q), tol<T>(32));
+  }
+  // Half turns (trace −1) and the axes: every Shepperd branch.
+  for (const Vec3<T>& axis : {Vec3<T>{1, 0, 0}, Vec3<T>{0, 1, 0}, Vec3<T>{0, 0, 1}, Vec3<T>{1, 1, 1}, Vec3<T>{-1, 2, 0.5}}) {
+    for (T angle : {T(0), pi_v<T>, pi_v<T> / 2, T(3)}) {
+      const Quaternion<T> q = Quaternion<T>::from_axis_angle(axis, angle);
+      EXPECT_LE(dq::test::rotation_diff(Quaternion<T>::from_matrix(q.to_matrix()), q), tol<T>(32));
+    }
+  }
+}
+
+TYPED_TEST(QuaternionTyped, AxisAngleIsExactAtZeroPiAndTwoPi) {
+  using T = TypeParam;
+  const Vec3<T> z{0, 0, 1};
+  EXPECT_EQ(Quaternion<T>::from_axis_angle(z, T(0)), Quaternion<T>(1, 0, 0, 0));
+  EXPECT_EQ(Quaternion<T>::from_axis_angle(z, pi_v<T>), Quaternion<T>(0, 0, 0, 1));
+  EXPECT_EQ(Quaternion<T>::from_axis_angle(z, T(2) * pi_v<T>), Quaternion<T>(-1, 0, 0, 0));
+  EXPECT_EQ(Quaternion<T>::from_axis_angle(z, -pi_v<T>), Quaternion<T>(0, 0, 0, -1));
+  // A half turn maps x to −x exactly.
+  EXPECT_EQ(Quaternion<T>::from_axis_angle(z, pi_v<T>).rotate(Vec3<T>{1, 0, 0}), (Vec3<T>{-1, 0, 0}));
+  const AxisAngle<T> aa = Quaternion<T>(0, 0, 0, 1).to_axis_angle();
+  EXPECT_EQ(aa.angle, pi_v<T>);
+  EXPECT_EQ(aa.axis, z);
+  const AxisAngle<T> id = Quaternion<T>::identity().to_axis_angle();
+  EXPECT_EQ(id.angle, T(0));
+  EXPECT_EQ(Quaternion<T>::from_axis_angle(Vec3<T>{}, T(1)), Quaternion<T>::identity());  // zero axis
+}
+
+TYPED_TEST(QuaternionTyped, AxisAngleRoundTripNearZeroAndPi) {
+  using T = TypeParam;
+  Random rng(25);
+  for (int n = 0; n < 2000; ++n) {
+    const Vec3<T> axis = normalized(rng.vec3<T>(1));
+    // Angles spread over (0, π), plus ones within a few ulps of 0 and of π.
+    T angle = rng.uniform<T>(0, pi_v<T>);
+    if (n % 3 == 1) angle = std::ldexp(rng.uniform<T>(1, 2), -static_cast<int>(n % 40) - 5);
+    if (n % 3 == 2) angle = pi_v<T> - T(n % 17) * std::numeric_limits<T>::epsilon();
+    const AxisAngle<T> aa = Quaternion<T>::from_axis_angle(axis, angle).to_axis_angle();
+    DQ_EXPECT_NEAR(aa.angle, angle, tol<T>(8) * (1 + angle));
+    if (angle > T(1e-3) && angle < pi_v<T> - T(1e-3)) {
+      EXPECT_LE(max_abs_diff(aa.axis, axis), tol<T>(64));
+    }
+  }
+}
+
+TYPED_TEST(QuaternionTyped, RotationVectorRoundTrip) {
+  using T = TypeParam;
+  Random rng(26);
+  for (int n = 0; n < 2000; ++n) {
+    Vec3<T> v = rng.vec3<T>(T(1.8));
+    if (n % 4 == 0) v = v * T(1e-9);
+    const Quaternion<T> q = Quaternion<T>::from_rotation_vector(v);
+    DQ_EXPECT_NEAR(q.norm(), 1.0, tol<T>(8));
+    EXPECT_LE(max_abs_diff(q.to_rotation_vector(), v), tol<T>(32) * (T(1) + norm(v)));
+  }
+}
+
+TYPED_TEST(QuaternionTyped, FromTwoVectors) {
+  using T = TypeParam;
+  Random rng(27);
+  auto check = [](const Vec3<T>& a, const Vec3<T>& b) {
+    const Quaternion<T> q = Quaternion<T>::from_two_vectors(a, b);
+    DQ_EXPECT_NEAR(q.norm(), 1.0, tol<T>(8));
+    EXPECT_LE(max_abs_diff(q.rotate(normalized(a)), normalized(b)), tol<T>(256)) << a << " -> " << b;
+  };
+  for (int n = 0; n < 1000; ++n) {
+    const Vec3<T> a = rng.vec3<T>(2), b = rng.vec3<T>(3);
+    check(a, b);
+    check(a, a * T(2));  // parallel
+    check(a, -a);        // antiparallel
+    check(a, -a + Vec3<T>{tol<T>(1), 0, 0});  // nearly antiparallel
+  }
+  check(Vec3<T>{1, 0, 0}, Vec3<T>{-1, 0, 0});
+  EXPECT_EQ(Quaternion<T>::from_two_vectors(Vec3<T>{}, Vec3<T>{1, 0, 0}), Quaternion<T>::identity());
+  // The shortest arc: the angle equals the angle between the vectors.
+  const Quaternion<T> q = Quaternion<T>::from_two_vectors(Vec3<T>{1, 0, 0}, Vec3<T>{0, 1, 0});
+  DQ_EXPECT_NEAR(q.to_axis_angle().angle, pi_v<T> / 2, tol<T>(4));
+}
+
+TYPED_TEST(QuaternionTyped, ExpLogPow) {
+  using T = TypeParam;
+  Random rng(28);
+  for (int n = 0; n < 2000; ++n) {
+    const Quaternion<T> q = rng.rotation<T>() * rng.uniform<T>(T(0.5), T(2));
+    EXPECT_LE(max_abs_diff(exp(log(q)), q), tol<T>(64));
+    const Quaternion<T> v = Quaternion<T>::pure(rng.vec3<T>(T(1.5)));  // |v| < π: principal branch
+    EXPECT_LE(max_abs_diff(log(exp(v)), v), tol<T>(64));
+    // pow of a unit quaternion scales its angle.
+    const Vec3<T> axis = normalized(rng.vec3<T>(1));
+    const T angle = rng.uniform<T>(0, T(3)), t = rng.uniform<T>(-2, 2);
+    const Quaternion<T> p = pow(Quaternion<T>::from_axis_angle(axis, angle), t);
+    EXPECT_LE(max_abs_diff(p, Quaternion<T>::from_axis_angle(axis, angle * t)), tol<T>(128));
+  }
+  EXPECT_EQ(log(Quaternion<T>::identity()), Quaternion<T>(0, 0, 0, 0));
+  const Quaternion<T> l = log(Quaternion<T>(-1, 0, 0, 0));  // a 2π rotation: a valid logarithm
+  EXPECT_LE(max_abs_diff(exp(l), Quaternion<T>(-1, 0, 0, 0)), tol<T>(4));
+}
+
+TYPED_TEST(QuaternionTyped, AngularDistanceTreatsSignsAsOneRotation) {
+  using T = TypeParam;
+  Random rng(29);
+  for (int n = 0; n < 1000; ++n) {
+    const Quaternion<T> a = rng.rotation<T>();
+    const Vec3<T> axis = normalized(rng.vec3<T>(1));
+    const T angle = rng.uniform<T>(0, pi_v<T>);
+    const Quaternion<T> b = a * Quaternion<T>::from_axis_angle(axis, angle);
+    DQ_EXPECT_NEAR(angular_distance(a, b), angle, tol<T>(32));
+    DQ_EXPECT_NEAR(angular_distance(a, -b), angle, tol<T>(32));
+  }
+  EXPECT_EQ(angular_distance(Quaternion<T>::identity(), Quaternion<T>::identity()), T(0));
+}
+
+TYPED_TEST(QuaternionTyped, NormalizationEdgeCases) {
+  using T = TypeParam;
+  using L = std::numeric_limits<T>;
+  EXPECT_EQ(Quaternion<T>(0, 0, 0, 0).normalized(), Quaternion<T>::identity());
+  EXPECT_TRUE(std::isnan(Quaternion<T>(L::quiet_NaN(), 0, 0, 0).normalized().w));
+  EXPECT_TRUE(std::isnan(Quaternion<T>(1, L::quiet_NaN(), 0, 0).normalized().x));
+  // Huge and tiny components normalize without overflow or underflow.
+  const T huge = L::max() / 4, tiny = L::denorm_min() * 8;
+  const Quaternion<T> h = Quaternion<T>(huge, huge, 0, 0).normalized();
+  DQ_EXPECT_NEAR(h.w, std::sqrt(T(0.5)), tol<T>(4));
+  const Quaternion<T> s = Quaternion<T>(0, tiny, 0, tiny).normalized();
+  DQ_EXPECT_NEAR(s.x, std::sqrt(T(0.5)), tol<T>(4));
+  EXPECT_GT(Quaternion<T>(huge, huge, huge, huge).norm(), huge);
+  EXPECT_TRUE(std::isinf(Quaternion<T>(L::infinity(), 0, 0, 0).norm()));
+  Random rng(30);
+  for (int n = 0; n < 1000; ++n) {
+    const Quaternion<T> q = rng.rotation<T>() * rng.uniform<T>(T(1e-3), T(1e3));
+    DQ_EXPECT_NEAR(q.normalized().norm(), 1.0, tol<T>(4));
+  }
+}
+
+TEST(Quaternion, CanonicalAndApproxEqual) {
+  EXPECT_EQ(Quaternion<double>(-0.5, 0.5, -0.5, 0.5).canonical(), Quaternion<double>(0.5, -0.5, 0.5, -0.5));
+  EXPECT_EQ(Quaternion<double>(0, -1, 0, 0).canonical(), Quaternion<double>(0, 1, 0, 0));
+  EXPECT_EQ(Quaternion<double>(0, 0, 0, -1).canonical(), Quaternion<double>(0, 0, 0, 1));
+  const Quaternion<double> q(0.5, 0.5, 0.5, 0.5);
+  EXPECT_FALSE(approx_equal(q, -q, 1e-12));
+  EXPECT_TRUE(approx_equal(q, -q, 1e-12, SignPolicy::same_rotation));
+  EXPECT_TRUE(approx_equal(q, Quaternion<double>(0.5 + 1e-13, 0.5, 0.5, 0.5), 1e-12));
+  EXPECT_FALSE(approx_equal(q, Quaternion<double>(0.5 + 1e-11, 0.5, 0.5, 0.5), 1e-12));
+  EXPECT_FALSE(q == -q);  // operator== is exact
+}
+
+TEST(Quaternion, ConstexprAlgebra) {
+  constexpr Quaternion<double> i(0, 1, 0, 0), j(0, 0, 1, 0);
+  static_assert(i * j == Quaternion<double>(0, 0, 0, 1));
+  static_assert((i + j).conjugate() == Quaternion<double>(0, -1, -1, 0));
+  constexpr Vec3<double> r = Quaternion<double>(0, 0, 0, 1).rotate(Vec3<double>{1, 0, 0});
+  static_assert(r == Vec3<double>{-1, 0, 0});
+}
+
+}  // namespace
