@@ -1,4 +1,4 @@
-// Everything in dqkit's header-only core: the algebra and the conversions.
+// Everything in dqkit's header-only core: the algebra, the conversions and interpolation.
 #pragma once
 
 #include "dq/convert/euler.hpp"
@@ -7,9 +7,14 @@
 #include "dq/convert/vrml.hpp"
 #include "dq/core/dual.hpp"
 #include "dq/core/dual_quaternion.hpp"
+#include "dq/core/exp_log.hpp"
 #include "dq/core/hyperdual.hpp"
 #include "dq/core/hyperdual_quaternion.hpp"
 #include "dq/core/matrix.hpp"
 #include "dq/core/quaternion.hpp"
 #include "dq/core/scalar.hpp"
 #include "dq/core/vec3.hpp"
+#include "dq/interp/baselines.hpp"
+#include "dq/interp/matrix.hpp"
+#include "dq/interp/rigid.hpp"
+#include "dq/interp/rotation.hpp"

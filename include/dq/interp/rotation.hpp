@@ -1,0 +1,141 @@
+// Interpolating and averaging rotations: slerp, nlerp, squad and the weighted average of N.
+//
+// slerp is written as a · exp(t · log(a* b)) with sinc-type series, not with the textbook weights
+// sin((1−t)Ω)/sin Ω, so it has none of the failure cases the Arends thesis found: equal endpoints
+// (Ω = 0), sin Ω ≈ 0, and Ω ≈ π all give a unit result that is continuous in t.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <span>
+
+#include "dq/core/quaternion.hpp"
+
+namespace dq {
+
+/// Which of the two arcs between q and ±q' to follow.
+enum class Path {
+  shortest,  ///< the rotation by at most π (the usual choice)
+  longest,   ///< the other way round (rotation angle 2π minus the shortest)
+};
+
+/// Optional report of a choice an interpolation had to make.
+struct InterpolationReport {
+  bool ambiguous = false;  ///< the endpoints are exactly π apart: both arcs are equally short
+};
+
+namespace detail {
+/// b or −b, so that a and the result are on the requested arc; reports the tie at dot = 0.
+template <class Q, class T>
+Q align_sign(const Q& b, const T& d, Path path, InterpolationReport* report) {
+  if (report) report->ambiguous = d == T(0);
+  const bool flip = path == Path::shortest ? d < T(0) : d > T(0);
+  return flip ? -b : b;
+}
+}  // namespace detail
+
+/// Spherical linear interpolation between rotations a (t = 0) and b (t = 1), at constant angular
+/// speed. Inputs are normalized first (drift is tolerated); t outside [0, 1] extrapolates along
+/// the same great circle. When the endpoints are exactly π apart (ambiguous), the arc of b as
+/// given is followed and `report->ambiguous` is set. The endpoints are reproduced to 1 ulp.
+template <class T>
+Quaternion<T> slerp(const Quaternion<T>& a, const Quaternion<T>& b, const T& t, Path path = Path::shortest,
+                    InterpolationReport* report = nullptr) {
+  const Quaternion<T> qa = a.normalized();
+  const Quaternion<T> qb = detail::align_sign(b.normalized(), dot(qa, b), path, report);
+  return (qa * exp(log(qa.conjugate() * qb) * t)).normalized();
+}
+
+/// Normalized linear interpolation: cheaper than slerp, same path, non-constant speed.
+template <class T>
+Quaternion<T> nlerp(const Quaternion<T>& a, const Quaternion<T>& b, const T& t, Path path = Path::shortest) {
+  const Quaternion<T> qb = detail::align_sign(b, dot(a, b), path, nullptr);
+  return (a * (T(1) - t) + qb * t).normalized();
+}
+
+/// The inner control point s_i of squad at key q with neighbours prev and next (Shoemake):
+/// s_i = q exp(−(log(q⁻¹ next) + log(q⁻¹ prev))/4), with neighbours sign-aligned to q.
+template <class T>
+Quaternion<T> squad_control_point(const Quaternion<T>& prev, const Quaternion<T>& q, const Quaternion<T>& next) {
+  const Quaternion<T> p = dot(prev, q) < T(0) ? -prev : prev;
+  const Quaternion<T> n = dot(next, q) < T(0) ? -next : next;
+  const Quaternion<T> qi = q.conjugate();
+  return (q * exp((log(qi * n) + log(qi * p)) * T(-0.25))).normalized();
+}
+
+/// Spherical cubic interpolation between keys q1 (t = 0) and q2 (t = 1) with control points
+/// s1, s2 (from squad_control_point): slerp(slerp(q1, q2, t), slerp(s1, s2, t), 2t(1−t)).
+/// C¹-continuous across keys when the control points come from the neighbours.
+template <class T>
+Quaternion<T> squad(const Quaternion<T>& q1, const Quaternion<T>& s1, const Quaternion<T>& s2, const Quaternion<T>& q2,
+                    const T& t) {
+  const Quaternion<T> q2a = dot(q1, q2) < T(0) ? -q2 : q2;
+  const Quaternion<T> s2a = dot(s1, s2) < T(0) ? -s2 : s2;
+  return slerp(slerp(q1, q2a, t), slerp(s1, s2a, t), T(2) * t * (T(1) - t), Path::shortest);
+}
+
+namespace detail {
+/// Eigenvector of the largest eigenvalue of a symmetric 4x4 matrix, by cyclic Jacobi rotations
+/// (no allocation, converges for every symmetric input).
+template <class T>
+std::array<T, 4> dominant_eigenvector(std::array<std::array<T, 4>, 4> m) {
+  using std::abs;
+  using std::sqrt;
+  std::array<std::array<T, 4>, 4> v{};
+  for (int i = 0; i < 4; ++i) v[static_cast<std::size_t>(i)][static_cast<std::size_t>(i)] = T(1);
+  for (int sweep = 0; sweep < 64; ++sweep) {
+    T off = T(0);
+    for (std::size_t p = 0; p < 4; ++p)
+      for (std::size_t q = p + 1; q < 4; ++q) off += m[p][q] * m[p][q];
+    if (value_of(off) == 0) break;
+    for (std::size_t p = 0; p < 4; ++p)
+      for (std::size_t q = p + 1; q < 4; ++q) {
+        if (value_of(m[p][q]) == 0) continue;
+        const T theta = (m[q][q] - m[p][p]) / (T(2) * m[p][q]);
+        const T sign = theta < T(0) ? T(-1) : T(1);
+        const T tt = sign / (abs(theta) + sqrt(theta * theta + T(1)));
+        const T c = T(1) / sqrt(tt * tt + T(1)), s = tt * c;
+        for (std::size_t k = 0; k < 4; ++k) {  // rotate columns p, q
+          const T mkp = m[k][p], mkq = m[k][q];
+          m[k][p] = c * mkp - s * mkq;
+          m[k][q] = s * mkp + c * mkq;
+        }
+        for (std::size_t k = 0; k < 4; ++k) {  // rotate rows p, q
+          const T mpk = m[p][k], mqk = m[q][k];
+          m[p][k] = c * mpk - s * mqk;
+          m[q][k] = s * mpk + c * mqk;
+        }
+        for (std::size_t k = 0; k < 4; ++k) {
+          const T vkp = v[k][p], vkq = v[k][q];
+          v[k][p] = c * vkp - s * vkq;
+          v[k][q] = s * vkp + c * vkq;
+        }
+      }
+  }
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < 4; ++i)
+    if (m[i][i] > m[best][best]) best = i;
+  return {v[0][best], v[1][best], v[2][best], v[3][best]};
+}
+}  // namespace detail
+
+/// The weighted average rotation (Markley et al.): the unit q maximizing Σ wᵢ (q · qᵢ)², i.e. the
+/// dominant eigenvector of Σ wᵢ qᵢ qᵢᵀ. Insensitive to the signs of the inputs. Weights must be
+/// non-negative; `weights` empty means equal weights. Returns the canonical sign (w ≥ 0). With
+/// no input, the identity.
+template <class T>
+Quaternion<T> average(std::span<const Quaternion<T>> rotations, std::span<const T> weights = {}) {
+  std::array<std::array<T, 4>, 4> m{};
+  for (std::size_t i = 0; i < rotations.size(); ++i) {
+    const T w = weights.empty() ? T(1) : weights[i];
+    const Quaternion<T>& q = rotations[i];
+    const std::array<T, 4> c{q.w, q.x, q.y, q.z};
+    for (std::size_t r = 0; r < 4; ++r)
+      for (std::size_t k = 0; k < 4; ++k) m[r][k] += w * c[r] * c[k];
+  }
+  if (rotations.empty()) return Quaternion<T>::identity();
+  const auto e = detail::dominant_eigenvector(m);
+  return Quaternion<T>(e[0], e[1], e[2], e[3]).normalized().canonical();
+}
+
+}  // namespace dq
