@@ -70,7 +70,7 @@ struct EulerExtraction {
 namespace detail {
 template <class T>
 Quaternion<T> axis_rotation(int axis, const T& angle) {
-  const auto sc = sin_cos(angle / T(2));
+  const auto sc = sin_cos(angle * T(0.5));
   Quaternion<T> q(sc.cos, T(0), T(0), T(0));
   (axis == 0 ? q.x : axis == 1 ? q.y : q.z) = sc.sin;
   return q;

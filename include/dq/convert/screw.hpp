@@ -26,8 +26,8 @@ struct Screw {
 /// Exact for pure translations (θ = 0): 1 + ε (d/2) l.
 template <class T>
 DualQuaternion<T> from_screw(const Screw<T>& s) {
-  const auto sc = detail::sin_cos(s.angle / T(2));
-  const T half_d = s.translation / T(2);
+  const auto sc = detail::sin_cos(s.angle * T(0.5));
+  const T half_d = s.translation * T(0.5);
   const Dual<T> sin_half{sc.sin, half_d * sc.cos}, cos_half{sc.cos, -half_d * sc.sin};
   const Vec3<T>& l = s.axis.direction;
   const Vec3<T>& m = s.axis.moment;

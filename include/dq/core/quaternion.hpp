@@ -149,7 +149,7 @@ struct Quaternion {
   static Quaternion from_axis_angle(const Vec3<T>& axis, const T& angle) {
     const T n = norm_of(axis);
     if (n == T(0)) return identity();
-    const auto sc = detail::sin_cos(angle / T(2));
+    const auto sc = detail::sin_cos(angle * T(0.5));
     return {sc.cos, axis * (sc.sin / n)};
   }
   static Quaternion from_axis_angle(const AxisAngle<T>& aa) { return from_axis_angle(aa.axis, aa.angle); }
@@ -169,8 +169,8 @@ struct Quaternion {
   static Quaternion from_rotation_vector(const Vec3<T>& v) {
     using std::cos;
     const T theta = norm_of(v);
-    const T half = theta / T(2);
-    return {cos(half), v * (detail::sinc(half) / T(2))};
+    const T half = theta * T(0.5);
+    return {cos(half), v * (detail::sinc(half) * T(0.5))};
   }
   /// The rotation vector of the canonical representative, |v| ∈ [0, π].
   Vec3<T> to_rotation_vector() const {

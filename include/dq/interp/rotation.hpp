@@ -37,13 +37,31 @@ Q align_sign(const Q& b, const T& d, Path path, InterpolationReport* report) {
 /// Spherical linear interpolation between rotations a (t = 0) and b (t = 1), at constant angular
 /// speed. Inputs are normalized first (drift is tolerated); t outside [0, 1] extrapolates along
 /// the same great circle. When the endpoints are exactly π apart (ambiguous), the arc of b as
-/// given is followed and `report->ambiguous` is set. The endpoints are reproduced to 1 ulp.
+/// given is followed and `report->ambiguous` is set; the longest path between equal rotations
+/// (a full turn) turns about x. The endpoints are reproduced to an ulp or two.
+///
+/// Written as a · exp(t · log(a* b)) for unit quaternions: with r = a* b = (cos Ω, n sin Ω), the
+/// result is a · (cos tΩ, v · sin(tΩ)/|v|), and sin(tΩ)/|v| = t · sinc(tΩ) · Ω/|v| has no
+/// division by a vanishing sine (Ω/|v| → 1/w as the endpoints meet).
 template <class T>
 Quaternion<T> slerp(const Quaternion<T>& a, const Quaternion<T>& b, const T& t, Path path = Path::shortest,
                     InterpolationReport* report = nullptr) {
+  using std::atan2;
+  using std::cos;
+  using std::sqrt;
   const Quaternion<T> qa = a.normalized();
   const Quaternion<T> qb = detail::align_sign(b.normalized(), dot(qa, b), path, report);
-  return (qa * exp(log(qa.conjugate() * qb) * t)).normalized();
+  const Quaternion<T> r = qa.conjugate() * qb;
+  const Vec3<T> v = r.vec();
+  const T s = sqrt(dot(v, v));
+  if (s == T(0) && r.w < T(0)) {  // a full turn between equal rotations: about x, by choice
+    const T h = pi_v<T> * t;
+    return qa * Quaternion<T>(cos(h), detail::sinc(h) * h, T(0), T(0));
+  }
+  const T omega = atan2(s, r.w);
+  const T omega_over_s = s > T(0) ? omega / s : T(1) / r.w;
+  const T h = omega * t;
+  return qa * Quaternion<T>(cos(h), v * (t * detail::sinc(h) * omega_over_s));
 }
 
 /// Normalized linear interpolation: cheaper than slerp, same path, non-constant speed.
