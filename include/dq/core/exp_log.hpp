@@ -22,9 +22,7 @@ T sinc_derivative_over_x(const T& a) {
   using std::abs;
   using std::cos;
   using std::sin;
-  using std::sqrt;
-  static const real_t<T> threshold = sqrt(sqrt(epsilon<T>())) * real_t<T>(4);
-  if (abs(value_of(a)) < threshold) {
+  if (abs(value_of(a)) < fourth_root_epsilon<T> * real_t<T>(4)) {
     const T a2 = a * a;
     return T(-1) / T(3) + a2 / T(30) - a2 * a2 / T(840);
   }

@@ -111,11 +111,8 @@ template <class T>
 constexpr Mat34<T> compose(const Mat34<T>& a, const Mat34<T>& b) noexcept {
   Mat34<T> out;
   for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 3; ++r) {
-      T s = a(r, 0) * b(0, c) + a(r, 1) * b(1, c) + a(r, 2) * b(2, c);
-      if (c == 3) s += a(r, 3);
-      out(r, c) = s;
-    }
+    for (int r = 0; r < 3; ++r) out(r, c) = a(r, 0) * b(0, c) + a(r, 1) * b(1, c) + a(r, 2) * b(2, c);
+  for (int r = 0; r < 3; ++r) out(r, 3) += a(r, 3);
   return out;
 }
 

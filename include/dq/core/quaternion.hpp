@@ -50,9 +50,7 @@ template <class T>
 T sinc(const T& x) {
   using std::abs;
   using std::sin;
-  using std::sqrt;
-  static const real_t<T> threshold = sqrt(sqrt(epsilon<T>()));
-  if (abs(value_of(x)) < threshold) return T(1) - x * x / T(6);
+  if (abs(value_of(x)) < fourth_root_epsilon<T>) return T(1) - x * x / T(6);
   return sin(x) / x;
 }
 }  // namespace detail
@@ -127,10 +125,10 @@ struct Quaternion {
   Quaternion normalized() const {
     using std::sqrt;
     const T n2 = squared_norm();
-    if (in_safe_range(n2)) return *this / sqrt(n2);
+    if (in_safe_range(n2)) return *this * (T(1) / sqrt(n2));
     if (n2 == T(0) && max_abs() == T(0)) return identity();
     const Quaternion u = *this / max_abs();  // the largest component becomes ±1
-    return u / sqrt(u.squared_norm());
+    return u * (T(1) / sqrt(u.squared_norm()));
   }
   void normalize() { *this = normalized(); }
 

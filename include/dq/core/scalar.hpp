@@ -36,6 +36,24 @@ constexpr real_t<T> epsilon() noexcept {
   return std::numeric_limits<real_t<T>>::epsilon();
 }
 
+namespace detail {
+/// √x at compile time (Newton's iteration from above), for tolerances derived from epsilon.
+template <class R>
+constexpr R constexpr_sqrt(R x) {
+  R r = x < R(1) ? R(1) : x;
+  for (int i = 0; i < 200; ++i) {
+    const R next = (r + x / r) / 2;
+    if (next >= r) break;
+    r = next;
+  }
+  return r;
+}
+}  // namespace detail
+
+/// ε^(1/4): below it, series replace closed forms like sin(x)/x (their error is then under ε).
+template <class T>
+inline constexpr real_t<T> fourth_root_epsilon = detail::constexpr_sqrt(detail::constexpr_sqrt(epsilon<T>()));
+
 template <class T>
 inline constexpr real_t<T> pi_v = std::numbers::pi_v<real_t<T>>;
 

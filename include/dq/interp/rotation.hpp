@@ -46,19 +46,21 @@ Q align_sign(const Q& b, const T& d, Path path, InterpolationReport* report) {
 template <class T>
 Quaternion<T> slerp(const Quaternion<T>& a, const Quaternion<T>& b, const T& t, Path path = Path::shortest,
                     InterpolationReport* report = nullptr) {
-  using std::atan2;
+  using std::acos;
+  using std::asin;
   using std::cos;
   using std::sqrt;
   const Quaternion<T> qa = a.normalized();
-  const Quaternion<T> qb = detail::align_sign(b.normalized(), dot(qa, b), path, report);
-  const Quaternion<T> r = qa.conjugate() * qb;
+  const Quaternion<T> r = (qa.conjugate() * detail::align_sign(b, dot(qa, b), path, report)).normalized();
   const Vec3<T> v = r.vec();
   const T s = sqrt(dot(v, v));
   if (s == T(0) && r.w < T(0)) {  // a full turn between equal rotations: about x, by choice
     const T h = pi_v<T> * t;
     return qa * Quaternion<T>(cos(h), detail::sinc(h) * h, T(0), T(0));
   }
-  const T omega = atan2(s, r.w);
+  // Ω = atan2(s, w), from whichever of asin/acos is well conditioned (cheaper than atan2).
+  using std::abs;
+  const T omega = abs(r.w) >= s ? (r.w < T(0) ? T(pi_v<T>) - asin(s) : asin(s)) : acos(r.w);
   const T omega_over_s = s > T(0) ? omega / s : T(1) / r.w;
   const T h = omega * t;
   return qa * Quaternion<T>(cos(h), v * (t * detail::sinc(h) * omega_over_s));
