@@ -1,0 +1,91 @@
+// Animations as sampled local transforms, and sampling them at any time with a chosen
+// interpolation, looping or clamped.
+#pragma once
+
+#include <cmath>
+#include <span>
+#include <vector>
+
+#include "dq/convert/matrix.hpp"
+#include "dq/interp/rigid.hpp"
+
+namespace dq {
+
+/// Local (parent-relative) transforms of every joint at evenly spaced frames.
+struct Animation {
+  double frame_time = 1.0 / 30;  ///< seconds between frames
+  std::size_t frame_count = 0;
+  std::size_t joint_count = 0;
+  std::vector<DualQuaternion<double>> locals;  ///< frame-major: locals[frame * joint_count + joint]
+
+  /// Time of the last frame: (frame_count − 1) × frame_time.
+  double duration() const noexcept { return frame_count ? frame_time * static_cast<double>(frame_count - 1) : 0; }
+  std::span<const DualQuaternion<double>> frame(std::size_t f) const {
+    return std::span(locals).subspan(f * joint_count, joint_count);
+  }
+};
+
+enum class Interpolation {
+  screw,              ///< sclerp: constant-speed screw motion between frames
+  dual_quaternion_linear,  ///< dlb of the two frames (cheap, what skinning uses; not constant speed)
+  decoupled,          ///< slerp rotation + linear translation
+  matrix,             ///< element-wise lerp of 3x4 matrices, rotation re-orthonormalized (polar)
+};
+
+enum class WrapMode {
+  clamp,  ///< before 0: frame 0; after the last frame: the last frame
+  loop,   ///< period frame_count × frame_time: after the last frame it blends back into frame 0
+};
+
+/// Interpolates one transform between a (u = 0) and b (u = 1).
+template <class T>
+DualQuaternion<T> interpolate(const DualQuaternion<T>& a, const DualQuaternion<T>& b, const T& u, Interpolation mode) {
+  switch (mode) {
+    case Interpolation::screw: return sclerp(a, b, u);
+    case Interpolation::dual_quaternion_linear: {
+      const std::array<DualQuaternion<T>, 2> q{a, b};
+      const std::array<T, 2> w{T(1) - u, u};
+      return dlb<T>(q, w, BlendPivot::first);
+    }
+    case Interpolation::decoupled: return decoupled_interpolate(a, b, u);
+    case Interpolation::matrix: {
+      const Mat34<T> m = to_mat34(a) * (T(1) - u) + to_mat34(b) * u;
+      Mat34<T> r = m;
+      const Mat3<T> rot = orthonormalize_polar(rotation_block(m));
+      for (int c = 0; c < 3; ++c)
+        for (int row = 0; row < 3; ++row) r(row, c) = rot(row, c);
+      return from_matrix(r);
+    }
+  }
+  return a;
+}
+
+/// Samples the animation at `time` (seconds) into `out` (one entry per joint, any scalar type).
+/// An animation with no frames leaves `out` unchanged; one frame is constant.
+template <class T>
+void sample(const Animation& anim, double time, Interpolation mode, WrapMode wrap, std::span<DualQuaternion<T>> out) {
+  if (anim.frame_count == 0) return;
+  const double n = static_cast<double>(anim.frame_count);
+  double x = anim.frame_time > 0 ? time / anim.frame_time : 0;  // in frames
+  if (!std::isfinite(x)) x = 0;
+  if (wrap == WrapMode::loop) {
+    x = std::fmod(x, n);
+    if (x < 0) x += n;
+  } else {
+    x = std::clamp(x, 0.0, n - 1);
+  }
+  const std::size_t f0 = std::min(static_cast<std::size_t>(x), anim.frame_count - 1);
+  const std::size_t f1 = (f0 + 1 < anim.frame_count) ? f0 + 1 : (wrap == WrapMode::loop ? 0 : f0);
+  const T u = static_cast<T>(x - static_cast<double>(f0));
+  const auto a = anim.frame(f0), b = anim.frame(f1);
+  for (std::size_t j = 0; j < anim.joint_count && j < out.size(); ++j) {
+    auto narrow = [](const DualQuaternion<double>& q) {
+      return DualQuaternion<T>(static_cast<T>(q.real.w), static_cast<T>(q.real.x), static_cast<T>(q.real.y),
+                               static_cast<T>(q.real.z), static_cast<T>(q.dual.w), static_cast<T>(q.dual.x),
+                               static_cast<T>(q.dual.y), static_cast<T>(q.dual.z));
+    };
+    out[j] = (u == T(0) || f0 == f1) ? narrow(a[j]) : interpolate(narrow(a[j]), narrow(b[j]), u, mode);
+  }
+}
+
+}  // namespace dq

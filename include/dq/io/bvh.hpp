@@ -1,0 +1,78 @@
+// BVH motion capture files: reading (any channel order, End Sites, 6-channel joints anywhere, any
+// whitespace and line endings), writing (exact round trip, optional change of rotation order),
+// and conversion to a skeleton and an animation.
+//
+// Conventions: `CHANNELS ... Zrotation Xrotation Yrotation` means the local rotation
+// Rz(a) Rx(b) Ry(c), angles in the order listed (intrinsic), in degrees in the file and radians in
+// dqkit; the local transform is translate(OFFSET + position channels) · rotation. End Sites are
+// joints without channels, named "<parent name>_End". Frames are numbered from 0.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "dq/anim/animation.hpp"
+#include "dq/anim/skeleton.hpp"
+#include "dq/convert/euler.hpp"
+#include "dq/util/expected.hpp"
+
+namespace dq {
+
+enum class BvhChannel : std::uint8_t { Xposition, Yposition, Zposition, Xrotation, Yrotation, Zrotation };
+
+std::string_view to_string(BvhChannel c) noexcept;
+
+struct BvhJoint {
+  std::string name;
+  int parent = -1;  ///< index into BvhFile::joints, −1 for a root; parents come first
+  Vec3<double> offset{};
+  std::vector<BvhChannel> channels;  ///< empty for End Sites
+  bool end_site = false;
+  std::size_t first_channel = 0;  ///< index of this joint's first value in a frame
+};
+
+struct BvhFile {
+  std::vector<BvhJoint> joints;  ///< in file order (depth first)
+  std::size_t frame_count = 0;
+  double frame_time = 0;       ///< seconds
+  std::vector<double> motion;  ///< frame_count × channel_count values, frame by frame, as in the file
+  std::vector<std::string> warnings;  ///< things the reader accepted but the caller should hear ("file:line: ...")
+
+  std::size_t channel_count() const noexcept;
+  std::span<const double> frame(std::size_t f) const { return std::span(motion).subspan(f * channel_count(), channel_count()); }
+};
+
+/// Parses BVH text. `source` names the input in error messages ("source:line: what was expected").
+/// Never throws or crashes on malformed input; rejects non-finite numbers, channel counts other
+/// than 0–6, unknown channel names, and motion data with fewer frames than the header declares
+/// or frames of the wrong length. Whole frames beyond the declared count are ignored with a
+/// warning (BvhFile::warnings), as some published files have one.
+Expected<BvhFile> read_bvh(std::string_view text, std::string_view source = "<bvh>");
+/// Reads and parses a file; errors name the file.
+Expected<BvhFile> read_bvh_file(const std::filesystem::path& path);
+
+/// The BVH text of a file: numbers in shortest round-trip form, so reading it back gives the same
+/// values bit for bit; tabs for indentation, '\n' line endings.
+std::string write_bvh(const BvhFile& bvh);
+
+/// Changes every joint's rotation channels to `order` (intrinsic, as BVH means it), converting
+/// each frame's angles so that every local rotation is the same (to rounding). Joints with fewer
+/// than three rotation channels get three. Position channels are kept, before the rotations.
+BvhFile with_rotation_order(const BvhFile& bvh, EulerOrder order);
+
+/// The local transform of joint j in frame f (translate(OFFSET + positions) · rotation).
+DualQuaternion<double> bvh_local_transform(const BvhFile& bvh, std::size_t joint, std::size_t frame);
+/// The local transform of joint j from OFFSET alone (the rest pose).
+DualQuaternion<double> bvh_rest_transform(const BvhFile& bvh, std::size_t joint);
+
+/// The skeleton of a BVH file (joint order preserved; End Sites included).
+Expected<Skeleton> bvh_skeleton(const BvhFile& bvh);
+/// Every frame's local transforms, in skeleton order.
+Animation bvh_animation(const BvhFile& bvh, const Skeleton& skeleton);
+
+}  // namespace dq

@@ -1,0 +1,487 @@
+#include "dq/io/bvh.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace dq {
+
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180;
+
+// ---- lexing: the text as lines of whitespace-separated tokens ------------------------------------
+
+struct Token {
+  std::string_view text;
+  std::size_t line = 0;  // 1-based
+};
+
+/// Splits the text into lines (\n, \r\n or a lone \r) and tokens (separated by spaces, tabs, \v, \f).
+class Lexer {
+ public:
+  explicit Lexer(std::string_view text) : text_(text) {}
+
+  /// The next token, skipping blank lines; an empty token at the end of the text.
+  Token next() {
+    skip_blank();
+    if (pos_ >= text_.size()) return {{}, line_};
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && !is_space(text_[pos_]) && !is_newline(text_[pos_])) ++pos_;
+    return {text_.substr(start, pos_ - start), line_};
+  }
+  /// The tokens left on the current line (consumed), trimmed.
+  std::vector<Token> rest_of_line() {
+    std::vector<Token> out;
+    while (true) {
+      while (pos_ < text_.size() && is_space(text_[pos_])) ++pos_;
+      if (pos_ >= text_.size() || is_newline(text_[pos_])) break;
+      const std::size_t start = pos_;
+      while (pos_ < text_.size() && !is_space(text_[pos_]) && !is_newline(text_[pos_])) ++pos_;
+      out.push_back({text_.substr(start, pos_ - start), line_});
+    }
+    return out;
+  }
+  /// Moves to the start of the next line that has any token; false at the end of the text.
+  bool next_nonblank_line() {
+    skip_blank();
+    return pos_ < text_.size();
+  }
+  std::size_t line() const noexcept { return line_; }
+
+ private:
+  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
+  static bool is_newline(char c) { return c == '\n' || c == '\r'; }
+  void skip_blank() {
+    while (pos_ < text_.size()) {
+      const char c = text_[pos_];
+      if (is_space(c)) {
+        ++pos_;
+      } else if (c == '\r') {
+        ++pos_;
+        if (pos_ < text_.size() && text_[pos_] == '\n') ++pos_;
+        ++line_;
+      } else if (c == '\n') {
+        ++pos_;
+        ++line_;
+      } else {
+        break;
+      }
+    }
+  }
+  std::string_view text_;
+  std::size_t pos_ = 0;
+  std::size_t line_ = 1;
+};
+
+bool iequals(std::string_view a, std::string_view b) {
+  return a.size() == b.size() &&
+         std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) { return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y)); });
+}
+
+std::string quoted(std::string_view s) {
+  if (s.empty()) return "end of file";
+  std::string out = "'";
+  for (char c : s.substr(0, 40)) out += (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) ? '?' : c;
+  if (s.size() > 40) out += "...";
+  return out + "'";
+}
+
+std::optional<double> parse_double(std::string_view s) {
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  double v = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+std::optional<std::size_t> parse_count(std::string_view s, std::size_t max) {
+  std::size_t v = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size() || v > max) return std::nullopt;
+  return v;
+}
+
+std::optional<BvhChannel> parse_channel(std::string_view s) {
+  static constexpr std::array<std::pair<std::string_view, BvhChannel>, 6> names{{{"Xposition", BvhChannel::Xposition},
+                                                                                 {"Yposition", BvhChannel::Yposition},
+                                                                                 {"Zposition", BvhChannel::Zposition},
+                                                                                 {"Xrotation", BvhChannel::Xrotation},
+                                                                                 {"Yrotation", BvhChannel::Yrotation},
+                                                                                 {"Zrotation", BvhChannel::Zrotation}}};
+  for (const auto& [name, c] : names)
+    if (iequals(s, name)) return c;
+  return std::nullopt;
+}
+
+class Parser {
+ public:
+  Parser(std::string_view text, std::string_view source) : lex_(text), source_(source) {}
+
+  Expected<BvhFile> parse() {
+    if (auto e = expect_word("HIERARCHY")) return *e;
+    Token t = lex_.next();
+    if (!iequals(t.text, "ROOT")) return fail(t, "expected 'ROOT'");
+    while (iequals(t.text, "ROOT")) {
+      if (auto e = parse_joint_tree(t)) return *e;
+      t = lex_.next();
+    }
+    if (!iequals(t.text, "MOTION")) return fail(t, "expected 'ROOT' or 'MOTION'");
+    if (auto e = parse_motion()) return *e;
+    return std::move(bvh_);
+  }
+
+ private:
+  using Failure = std::optional<Error>;
+
+  Error fail(const Token& t, const std::string& what) const {
+    return Error{std::string(source_) + ":" + std::to_string(t.line) + ": " + what + ", found " + quoted(t.text)};
+  }
+  Error fail_line(std::size_t line, const std::string& what) const {
+    return Error{std::string(source_) + ":" + std::to_string(line) + ": " + what};
+  }
+  Failure expect_word(std::string_view word) {
+    const Token t = lex_.next();
+    if (!iequals(t.text, word)) return fail(t, "expected '" + std::string(word) + "'");
+    return std::nullopt;
+  }
+  Failure read_number(double& out) {
+    const Token t = lex_.next();
+    const auto v = parse_double(t.text);
+    if (!v) return fail(t, "expected a finite number");
+    out = *v;
+    return std::nullopt;
+  }
+  Failure read_offset(Vec3<double>& out) {
+    for (int i = 0; i < 3; ++i)
+      if (auto e = read_number(out[i])) return e;
+    return std::nullopt;
+  }
+
+  /// ROOT/JOINT name on the rest of the line; a '{' may end that line.
+  Failure read_name(const Token& keyword, std::string& name, bool& brace_seen) {
+    auto rest = lex_.rest_of_line();
+    brace_seen = !rest.empty() && rest.back().text == "{";
+    if (brace_seen) rest.pop_back();
+    if (rest.empty()) return fail_line(keyword.line, "expected a joint name after '" + std::string(keyword.text) + "'");
+    name.clear();
+    for (std::size_t i = 0; i < rest.size(); ++i) {
+      if (i) name += ' ';
+      name += rest[i].text;
+    }
+    return std::nullopt;
+  }
+
+  /// Parses a ROOT block and everything nested in it, iteratively (no recursion, so deeply
+  /// nested hostile input cannot overflow the stack).
+  Failure parse_joint_tree(const Token& root_keyword) {
+    std::vector<int> stack;  // open joints
+    Token keyword = root_keyword;
+    while (true) {
+      // Open a joint: name, '{', OFFSET, CHANNELS.
+      BvhJoint j;
+      bool brace = false;
+      if (auto e = read_name(keyword, j.name, brace)) return e;
+      if (!brace)
+        if (auto e = expect_word("{")) return e;
+      j.parent = stack.empty() ? -1 : stack.back();
+      if (auto e = expect_word("OFFSET")) return e;
+      if (auto e = read_offset(j.offset)) return e;
+      if (auto e = expect_word("CHANNELS")) return e;
+      const Token count = lex_.next();
+      const auto n = parse_count(count.text, 6);
+      if (!n) return fail(count, "expected a channel count from 0 to 6");
+      for (std::size_t i = 0; i < *n; ++i) {
+        const Token c = lex_.next();
+        const auto ch = parse_channel(c.text);
+        if (!ch) return fail(c, "expected a channel name (Xposition ... Zrotation)");
+        if (std::find(j.channels.begin(), j.channels.end(), *ch) != j.channels.end()) return fail(c, "channel repeated in a joint");
+        j.channels.push_back(*ch);
+      }
+      j.first_channel = channels_;
+      channels_ += j.channels.size();
+      if (bvh_.joints.size() >= kMaxJoints) return fail_line(count.line, "more than " + std::to_string(kMaxJoints) + " joints");
+      bvh_.joints.push_back(std::move(j));
+      stack.push_back(static_cast<int>(bvh_.joints.size()) - 1);
+      // Children until this joint closes; closing may pop several levels.
+      while (true) {
+        const Token t = lex_.next();
+        if (iequals(t.text, "JOINT")) {
+          keyword = t;
+          break;  // open the child (outer loop)
+        }
+        if (iequals(t.text, "End")) {
+          if (auto e = expect_word("Site")) return e;
+          BvhJoint end;
+          end.name = bvh_.joints[static_cast<std::size_t>(stack.back())].name + "_End";
+          end.parent = stack.back();
+          end.end_site = true;
+          end.first_channel = channels_;
+          if (auto e = expect_word("{")) return e;
+          if (auto e = expect_word("OFFSET")) return e;
+          if (auto e = read_offset(end.offset)) return e;
+          if (auto e = expect_word("}")) return e;
+          bvh_.joints.push_back(std::move(end));
+          continue;
+        }
+        if (t.text == "}") {
+          stack.pop_back();
+          if (stack.empty()) return std::nullopt;
+          continue;
+        }
+        return fail(t, "expected 'JOINT', 'End Site' or '}'");
+      }
+    }
+  }
+
+  Failure parse_motion() {
+    // "Frames: N" (also "Frames : N").
+    Token t = lex_.next();
+    if (!iequals(t.text, "Frames:")) {
+      if (!iequals(t.text, "Frames")) return fail(t, "expected 'Frames:'");
+      if (auto e = expect_word(":")) return e;
+    }
+    const Token count = lex_.next();
+    const auto frames = parse_count(count.text, kMaxFrames);
+    if (!frames) return fail(count, "expected a frame count");
+    // "Frame Time: t".
+    if (auto e = expect_word("Frame")) return e;
+    t = lex_.next();
+    if (!iequals(t.text, "Time:")) {
+      if (!iequals(t.text, "Time")) return fail(t, "expected 'Time:'");
+      if (auto e = expect_word(":")) return e;
+    }
+    const Token ft = lex_.next();
+    const auto frame_time = parse_double(ft.text);
+    if (!frame_time || *frame_time <= 0) return fail(ft, "expected a positive frame time");
+    bvh_.frame_count = *frames;
+    bvh_.frame_time = *frame_time;
+    // One frame per line, exactly channels_ numbers each.
+    bvh_.motion.reserve(std::min<std::size_t>(*frames * channels_, 1u << 24));
+    for (std::size_t f = 0; f < *frames; ++f) {
+      if (channels_ == 0) break;
+      if (!lex_.next_nonblank_line())
+        return fail_line(lex_.line(), "expected " + std::to_string(*frames) + " frames, found " + std::to_string(f));
+      const std::size_t line = lex_.line();
+      const auto values = lex_.rest_of_line();
+      if (values.size() != channels_)
+        return fail_line(line, "frame " + std::to_string(f) + " has " + std::to_string(values.size()) + " values, expected " +
+                                   std::to_string(channels_));
+      for (const Token& v : values) {
+        const auto x = parse_double(v.text);
+        if (!x) return fail(v, "expected a finite number in frame " + std::to_string(f));
+        bvh_.motion.push_back(*x);
+      }
+    }
+    // Whole frame lines past the declared count (some published files have one) are ignored
+    // with a warning that says where; anything else after the motion is an error.
+    std::size_t extra_frames = 0, first_extra_line = 0;
+    while (channels_ > 0 && lex_.next_nonblank_line()) {
+      const std::size_t line = lex_.line();
+      const auto values = lex_.rest_of_line();
+      const bool is_frame = values.size() == channels_ &&
+                            std::all_of(values.begin(), values.end(), [](const Token& v) { return parse_double(v.text).has_value(); });
+      if (!is_frame) return fail(values.front(), "expected end of file after " + std::to_string(*frames) + " frames");
+      if (extra_frames++ == 0) first_extra_line = line;
+    }
+    if (extra_frames > 0)
+      bvh_.warnings.push_back(std::string(source_) + ":" + std::to_string(first_extra_line) + ": " + std::to_string(extra_frames) +
+                              " frame line(s) beyond the " + std::to_string(*frames) + " declared in 'Frames:' ignored");
+    const Token extra = lex_.next();
+    if (!extra.text.empty()) return fail(extra, "expected end of file after " + std::to_string(*frames) + " frames");
+    return std::nullopt;
+  }
+
+  static constexpr std::size_t kMaxJoints = 1u << 16;
+  static constexpr std::size_t kMaxFrames = 1u << 26;
+  Lexer lex_;
+  std::string_view source_;
+  BvhFile bvh_;
+  std::size_t channels_ = 0;
+};
+
+void append_number(std::string& out, double v) {
+  std::array<char, 32> buf{};
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
+  out.append(buf.data(), r.ptr);
+}
+
+Quaternion<double> axis_rotation(BvhChannel c, double degrees) {
+  const Vec3<double> axis = c == BvhChannel::Xrotation ? Vec3<double>{1, 0, 0}
+                            : c == BvhChannel::Yrotation ? Vec3<double>{0, 1, 0}
+                                                         : Vec3<double>{0, 0, 1};
+  return Quaternion<double>::from_axis_angle(axis, degrees * kDegree);
+}
+
+bool is_rotation(BvhChannel c) { return c >= BvhChannel::Xrotation; }
+
+}  // namespace
+
+std::string_view to_string(BvhChannel c) noexcept {
+  constexpr std::array<std::string_view, 6> names{"Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation"};
+  return names[static_cast<std::size_t>(c)];
+}
+
+std::size_t BvhFile::channel_count() const noexcept {
+  std::size_t n = 0;
+  for (const BvhJoint& j : joints) n += j.channels.size();
+  return n;
+}
+
+Expected<BvhFile> read_bvh(std::string_view text, std::string_view source) { return Parser(text, source).parse(); }
+
+Expected<BvhFile> read_bvh_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Error{path.string() + ": cannot open for reading: " + std::strerror(errno)};
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) return Error{path.string() + ": read error"};
+  return read_bvh(ss.str(), path.string());
+}
+
+std::string write_bvh(const BvhFile& bvh) {
+  std::string out = "HIERARCHY\n";
+  std::vector<int> open;  // joints whose block is open
+  auto indent = [&](std::size_t depth) { out.append(depth, '\t'); };
+  for (std::size_t i = 0; i < bvh.joints.size(); ++i) {
+    const BvhJoint& j = bvh.joints[i];
+    while (!open.empty() && open.back() != j.parent) {  // close finished subtrees
+      open.pop_back();
+      indent(open.size());
+      out += "}\n";
+    }
+    indent(open.size());
+    if (j.end_site) {
+      out += "End Site\n";
+    } else {
+      out += (j.parent < 0 ? "ROOT " : "JOINT ") + j.name + "\n";
+    }
+    indent(open.size());
+    out += "{\n";
+    indent(open.size() + 1);
+    out += "OFFSET ";
+    for (int k = 0; k < 3; ++k) {
+      append_number(out, j.offset[k]);
+      out += k < 2 ? " " : "\n";
+    }
+    if (!j.end_site) {
+      indent(open.size() + 1);
+      out += "CHANNELS ";
+      out += std::to_string(j.channels.size());
+      for (BvhChannel c : j.channels) {
+        out += ' ';
+        out += to_string(c);
+      }
+      out += "\n";
+    }
+    open.push_back(static_cast<int>(i));
+  }
+  while (!open.empty()) {
+    open.pop_back();
+    indent(open.size());
+    out += "}\n";
+  }
+  out += "MOTION\nFrames: " + std::to_string(bvh.frame_count) + "\nFrame Time: ";
+  append_number(out, bvh.frame_time);
+  out += "\n";
+  const std::size_t n = bvh.channel_count();
+  for (std::size_t f = 0; f < bvh.frame_count && n > 0; ++f) {
+    for (std::size_t c = 0; c < n; ++c) {
+      if (c) out += ' ';
+      append_number(out, bvh.motion[f * n + c]);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+namespace {
+Quaternion<double> joint_rotation(const BvhJoint& j, std::span<const double> frame) {
+  Quaternion<double> q;
+  for (std::size_t k = 0; k < j.channels.size(); ++k)
+    if (is_rotation(j.channels[k])) q = q * axis_rotation(j.channels[k], frame[j.first_channel + k]);
+  return q;
+}
+Vec3<double> joint_translation(const BvhJoint& j, std::span<const double> frame) {
+  Vec3<double> t = j.offset;
+  for (std::size_t k = 0; k < j.channels.size(); ++k)
+    if (!is_rotation(j.channels[k])) t[static_cast<int>(j.channels[k])] += frame[j.first_channel + k];
+  return t;
+}
+}  // namespace
+
+BvhFile with_rotation_order(const BvhFile& bvh, EulerOrder order) {
+  const auto axes = euler_axes(order);
+  BvhFile out = bvh;
+  out.motion.clear();
+  std::size_t next = 0;
+  for (BvhJoint& j : out.joints) {  // new channel lists: positions first, then the new rotations
+    if (j.end_site) {
+      j.first_channel = next;
+      continue;
+    }
+    const bool had_rotation = std::any_of(j.channels.begin(), j.channels.end(), is_rotation);
+    std::vector<BvhChannel> channels;
+    for (BvhChannel c : j.channels)
+      if (!is_rotation(c)) channels.push_back(c);
+    if (had_rotation)
+      for (int a : axes) channels.push_back(static_cast<BvhChannel>(static_cast<int>(BvhChannel::Xrotation) + a));
+    j.channels = channels;
+    j.first_channel = next;
+    next += j.channels.size();
+  }
+  out.motion.reserve(bvh.frame_count * next);
+  for (std::size_t f = 0; f < bvh.frame_count; ++f) {
+    const auto frame = bvh.frame(f);
+    for (std::size_t i = 0; i < out.joints.size(); ++i) {
+      const BvhJoint& src = bvh.joints[i];
+      const BvhJoint& dst = out.joints[i];
+      for (std::size_t k = 0; k < src.channels.size(); ++k)
+        if (!is_rotation(src.channels[k])) out.motion.push_back(frame[src.first_channel + k]);
+      if (dst.channels.size() > 0 && is_rotation(dst.channels.back())) {
+        const EulerAngles<double> e = to_euler(joint_rotation(src, frame), order, EulerFrame::intrinsic).angles;
+        out.motion.push_back(e.a / kDegree);
+        out.motion.push_back(e.b / kDegree);
+        out.motion.push_back(e.c / kDegree);
+      }
+    }
+  }
+  return out;
+}
+
+DualQuaternion<double> bvh_local_transform(const BvhFile& bvh, std::size_t joint, std::size_t frame) {
+  const BvhJoint& j = bvh.joints[joint];
+  const auto values = bvh.frame(frame);
+  return DualQuaternion<double>::from_rotation_translation(joint_rotation(j, values), joint_translation(j, values));
+}
+
+DualQuaternion<double> bvh_rest_transform(const BvhFile& bvh, std::size_t joint) {
+  return DualQuaternion<double>::from_translation(bvh.joints[joint].offset);
+}
+
+Expected<Skeleton> bvh_skeleton(const BvhFile& bvh) {
+  RawSkeleton raw;
+  for (std::size_t i = 0; i < bvh.joints.size(); ++i)
+    raw.add(bvh.joints[i].name, bvh.joints[i].parent, bvh_rest_transform(bvh, i), bvh.joints[i].end_site);
+  return build_skeleton(raw);
+}
+
+Animation bvh_animation(const BvhFile& bvh, const Skeleton& skeleton) {
+  Animation anim;
+  anim.frame_time = bvh.frame_time;
+  anim.frame_count = bvh.frame_count;
+  anim.joint_count = skeleton.size();
+  anim.locals.resize(anim.frame_count * anim.joint_count);
+  const auto raw = skeleton.raw_indices();
+  for (std::size_t f = 0; f < bvh.frame_count; ++f)
+    for (std::size_t j = 0; j < skeleton.size(); ++j)
+      anim.locals[f * anim.joint_count + j] = bvh_local_transform(bvh, static_cast<std::size_t>(raw[j]), f);
+  return anim;
+}
+
+}  // namespace dq
