@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages dqkit builds and tests with, if any is missing (idempotent).
 set -euo pipefail
-packages=(cmake g++ make pkg-config libgtest-dev libbenchmark-dev libeigen3-dev libglm-dev)
+packages=(cmake g++ make pkg-config libgtest-dev libbenchmark-dev libeigen3-dev libglm-dev
+  libassimp-dev assimp-testmodels libcli11-dev nlohmann-json3-dev clang libclang-rt-14-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

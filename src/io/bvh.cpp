@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -320,6 +321,11 @@ Quaternion<double> axis_rotation(BvhChannel c, double degrees) {
 
 bool is_rotation(BvhChannel c) { return c >= BvhChannel::Xrotation; }
 
+bool translation_moved(const Vec3<double>& t, const Vec3<double>& rest) {
+  const double scale = 1 + std::max({std::abs(rest.x), std::abs(rest.y), std::abs(rest.z)});
+  return std::max({std::abs(t.x - rest.x), std::abs(t.y - rest.y), std::abs(t.z - rest.z)}) > 1e-9 * scale;
+}
+
 }  // namespace
 
 std::string_view to_string(BvhChannel c) noexcept {
@@ -462,6 +468,51 @@ DualQuaternion<double> bvh_local_transform(const BvhFile& bvh, std::size_t joint
 
 DualQuaternion<double> bvh_rest_transform(const BvhFile& bvh, std::size_t joint) {
   return DualQuaternion<double>::from_translation(bvh.joints[joint].offset);
+}
+
+BvhFile to_bvh(const Skeleton& skeleton, const Animation& animation, EulerOrder order) {
+  BvhFile out;
+  out.frame_count = animation.frame_count;
+  out.frame_time = animation.frame_time > 0 ? animation.frame_time : 1.0 / 30;
+  const std::size_t n = skeleton.size();
+  const auto axes = euler_axes(order);
+  std::vector<bool> moves(n, false);
+  for (std::size_t j = 0; j < n; ++j) {
+    const Vec3<double> rest = skeleton.rest_pose()[j].translation();
+    for (std::size_t f = 0; f < animation.frame_count && !moves[j]; ++f)
+      moves[j] = translation_moved(animation.frame(f)[j].translation(), rest);
+  }
+  std::size_t next = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    BvhJoint b;
+    b.name = skeleton.names()[j];
+    std::replace_if(b.name.begin(), b.name.end(), [](unsigned char c) { return std::isspace(c) || c == '{' || c == '}'; }, '_');
+    b.parent = skeleton.parents()[j];
+    b.offset = skeleton.rest_pose()[j].translation();
+    b.end_site = skeleton.is_end_site(j);
+    if (!b.end_site) {
+      if (b.parent < 0 || moves[j]) b.channels = {BvhChannel::Xposition, BvhChannel::Yposition, BvhChannel::Zposition};
+      for (int a : axes) b.channels.push_back(static_cast<BvhChannel>(static_cast<int>(BvhChannel::Xrotation) + a));
+    }
+    b.first_channel = next;
+    next += b.channels.size();
+    out.joints.push_back(std::move(b));
+  }
+  out.motion.reserve(out.frame_count * next);
+  for (std::size_t f = 0; f < out.frame_count; ++f) {
+    const auto frame = animation.frame(f);
+    for (std::size_t j = 0; j < n; ++j) {
+      const BvhJoint& b = out.joints[j];
+      if (b.end_site) continue;
+      if (b.channels.size() == 6) {
+        const Vec3<double> d = frame[j].translation() - b.offset;
+        out.motion.insert(out.motion.end(), {d.x, d.y, d.z});
+      }
+      const EulerAngles<double> e = to_euler(frame[j].real, order, EulerFrame::intrinsic).angles;
+      out.motion.insert(out.motion.end(), {e.a / kDegree, e.b / kDegree, e.c / kDegree});
+    }
+  }
+  return out;
 }
 
 Expected<Skeleton> bvh_skeleton(const BvhFile& bvh) {

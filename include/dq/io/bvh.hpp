@@ -70,6 +70,12 @@ DualQuaternion<double> bvh_local_transform(const BvhFile& bvh, std::size_t joint
 /// The local transform of joint j from OFFSET alone (the rest pose).
 DualQuaternion<double> bvh_rest_transform(const BvhFile& bvh, std::size_t joint);
 
+/// A BVH file for a skeleton and its animation (from any source): every joint gets rotation
+/// channels in `order` (degrees), the roots and every joint whose translation moves also get
+/// position channels; OFFSET is the rest translation. Names have whitespace replaced by '_'.
+/// End Sites (skeleton joints marked so) become End Site blocks.
+BvhFile to_bvh(const Skeleton& skeleton, const Animation& animation, EulerOrder order = EulerOrder::ZXY);
+
 /// The skeleton of a BVH file (joint order preserved; End Sites included).
 Expected<Skeleton> bvh_skeleton(const BvhFile& bvh);
 /// Every frame's local transforms, in skeleton order.

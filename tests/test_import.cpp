@@ -1,0 +1,100 @@
+// Import through Assimp: real files from Debian's assimp-testmodels (glTF 2.0 skin, DirectX X,
+// FBX, Collada, IQM, BVH), checked for structure and against dqkit's own BVH reader.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "dq/anim/forward_kinematics.hpp"
+#include "dq/io/motion.hpp"
+#include "support.hpp"
+
+namespace {
+
+using namespace dq;
+const std::filesystem::path kModels = DQKIT_ASSIMP_MODELS;
+
+TEST(Import, GltfSimpleSkin) {
+  const Expected<ImportedScene> s = import_scene(kModels / "glTF2/simple_skin/simple_skin.gltf");
+  ASSERT_TRUE(s) << s.error().message;
+  EXPECT_GE(s->skeleton.size(), 3u);
+  ASSERT_EQ(s->meshes.size(), 1u);
+  const ImportedMesh& mesh = s->meshes[0];
+  ASSERT_FALSE(mesh.influences.empty());
+  EXPECT_EQ(mesh.influence_offsets.size(), mesh.positions.size() + 1);
+  EXPECT_EQ(mesh.bone_joints.size(), 2u);
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {  // weights sum to one per vertex
+    double sum = 0;
+    for (std::uint32_t k = mesh.influence_offsets[v]; k < mesh.influence_offsets[v + 1]; ++k) sum += double(mesh.influences[k].weight);
+    EXPECT_NEAR(sum, 1.0, 1e-6);
+  }
+  ASSERT_EQ(s->animations.size(), 1u);
+  const Animation& a = s->animations[0].animation;
+  EXPECT_EQ(a.joint_count, s->skeleton.size());
+  EXPECT_NEAR(a.duration(), 5.5, 1e-9);  // the file's keys span 5.5 s
+  for (const auto& q : a.locals) EXPECT_TRUE(q.is_unit(1e-9));
+}
+
+TEST(Import, DirectXFbxColladaIqmLoad) {
+  struct Case {
+    const char* file;
+    std::size_t min_joints;
+    bool skinned, animated;
+  };
+  for (const Case& c : {Case{"X/BCN_Epileptic.X", 50, true, true}, Case{"FBX/animation_with_skeleton.fbx", 10, true, true},
+                        Case{"Collada/human.zae", 2, false, false}, Case{"IQM/mrfixit.iqm", 1, false, false}}) {
+    const Expected<ImportedScene> s = import_scene(kModels / c.file);
+    ASSERT_TRUE(s) << c.file << ": " << s.error().message;
+    EXPECT_GE(s->skeleton.size(), c.min_joints) << c.file;
+    bool skinned = false;
+    for (const ImportedMesh& m : s->meshes) skinned |= !m.influences.empty();
+    EXPECT_EQ(skinned, c.skinned) << c.file;
+    EXPECT_EQ(!s->animations.empty(), c.animated) << c.file;
+    for (const ImportedAnimation& a : s->animations)
+      for (const auto& q : a.animation.locals) ASSERT_TRUE(q.is_unit(1e-6)) << c.file;
+  }
+}
+
+TEST(Import, AssimpBvhAgreesWithDqkitsReader) {
+  // Two independent readers of 01_01.bvh: world positions of every joint present in both, at
+  // frames that fall on the 120 Hz grid of the 30 Hz resampling (every 4th file frame).
+  const Expected<Motion> ours = load_motion(kModels / "BVH/01_01.bvh");
+  ASSERT_TRUE(ours) << ours.error().message;
+  const Expected<ImportedScene> theirs = import_scene(kModels / "BVH/01_01.bvh", {.sample_rate = 30, .meshes = false});
+  ASSERT_TRUE(theirs) << theirs.error().message;
+  ASSERT_FALSE(theirs->animations.empty());
+  const Animation& ta = theirs->animations[0].animation;
+  std::vector<DualQuaternion<double>> a(ours->skeleton.size()), b(theirs->skeleton.size());
+  std::size_t compared = 0;
+  for (std::size_t f : {std::size_t{0}, std::size_t{10}, std::size_t{100}}) {
+    local_to_model<DualQuaternion<double>>(ours->skeleton, ours->animation.frame(4 * f), a);
+    local_to_model<DualQuaternion<double>>(theirs->skeleton, ta.frame(f), b);
+    for (std::size_t j = 0; j < ours->skeleton.size(); ++j) {
+      if (ours->skeleton.is_end_site(j)) continue;
+      const int k = theirs->skeleton.find(ours->skeleton.names()[j]);
+      if (k < 0) continue;
+      // Assimp keeps keys in float: agreement to float precision of the positions (~1e-5 · 40).
+      EXPECT_LE(dq::test::max_abs_diff(a[j].translation(), b[static_cast<std::size_t>(k)].translation()), 2e-3)
+          << ours->skeleton.names()[j] << " frame " << f;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 3u * 30u);
+}
+
+TEST(Import, ErrorsNameTheFile) {
+  const Expected<ImportedScene> missing = import_scene("/nonexistent/model.gltf");
+  ASSERT_FALSE(missing);
+  EXPECT_NE(missing.error().message.find("/nonexistent/model.gltf: no such file"), std::string::npos);
+  const std::filesystem::path junk = std::filesystem::temp_directory_path() / "dqkit_junk.gltf";
+  std::ofstream(junk) << "{ this is not glTF";
+  const Expected<ImportedScene> bad = import_scene(junk);
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().message.find(junk.string()), std::string::npos);
+  std::filesystem::remove(junk);
+  const std::string text = "not a model at all";
+  const Expected<ImportedScene> mem = import_scene_from_memory(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "fbx");
+  EXPECT_FALSE(mem);
+}
+
+}  // namespace
