@@ -102,6 +102,16 @@ TEST(Screw, PureTranslationsAndIdentityAreExact) {
   EXPECT_EQ(neg.translation, 13.0);
 }
 
+TEST(Screw, RotationsBelowRoundoffAreTranslations) {
+  // θ = 2e-20 with a huge translation: the axis would lie 1e300 away; it is a translation.
+  const auto q = DualQuaternion<double>::from_rotation_translation(Quaternion<double>(1, 1e-20, 0, 0).normalized(), {0, 1e280, 0});
+  const Screw<double> s = to_screw(q);
+  EXPECT_EQ(s.angle, 0.0);
+  EXPECT_EQ(s.translation, 1e280);
+  EXPECT_TRUE(std::isfinite(s.axis.moment.x));
+  EXPECT_TRUE(approx_equal(from_screw(s).real, q.real, 1e-16));
+}
+
 TEST(Screw, DualAngleThroughDualNumbers) {
   // Q = cos(θ̂/2) + ŝ sin(θ̂/2) evaluated with Dual<double> functions equals from_screw.
   const Screw<double> s{PluckerLine<double>::through({1, 2, 0}, {0, 0, 1}), 1.2, 0.7};

@@ -35,9 +35,12 @@ DualQuaternion<T> from_screw(const Screw<T>& s) {
           Quaternion<T>(cos_half.dual, m * sin_half.real + l * sin_half.dual)};
 }
 
-/// The screw of a unit dual quaternion, with θ ∈ [0, π]. A pure translation (q_r = ±1 exactly)
-/// has θ = 0, l = t/|t|, m = 0 and d = |t| (its axis is any parallel line: the one through the
-/// origin is chosen); the identity gives l = (1, 0, 0) and d = 0.
+/// The screw of a unit dual quaternion, with θ ∈ [0, π]. A pure translation has θ = 0,
+/// l = t/|t|, m = 0 and d = |t| (its axis is any parallel line: the one through the origin is
+/// chosen); the identity gives l = (1, 0, 0) and d = 0. A rotation below the unit roundoff
+/// (|q_r vector| ≤ ε, so that q_r.w = 1 to the last bit) counts as a pure translation: its axis
+/// lies |t|/θ away, which for such θ can exceed the range of T, and the rotation it would keep is
+/// below what a unit quaternion can hold.
 template <class T>
 Screw<T> to_screw(const DualQuaternion<T>& q) {
   using std::atan2;
@@ -48,8 +51,8 @@ Screw<T> to_screw(const DualQuaternion<T>& q) {
   const Vec3<T> vr = u.real.vec();
   const T s = sqrt(dot(vr, vr));
   Screw<T> out;
-  if (value_of(s) < std::numeric_limits<real_t<T>>::min()) {
-    const T len = sqrt(dot(t, t));
+  if (value_of(s) <= epsilon<T>()) {
+    const T len = norm(t);  // hypot-based: no overflow for translations near the top of T's range
     if (len > T(0)) out.axis.direction = t / len;
     out.translation = len;
     return out;

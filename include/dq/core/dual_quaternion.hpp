@@ -6,6 +6,7 @@
 // condition say so (see docs/design.md for why there is no separate unit type).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <ostream>
 
@@ -116,7 +117,15 @@ struct DualQuaternion {
     if (n == T(0)) return identity();
     const Quaternion<T> r = real / n;
     const Quaternion<T> d = dual / n;
-    return {r, d - r * dot(r, d)};
+    const T k = dot(r, d);
+    const Quaternion<T> p = d - r * k;
+    // When most of d lay along r, that projection cancelled and left rounding noise that is itself
+    // along r. Then rebuild the dual part from the translation instead: with v = vec(d r*),
+    // (0, v) r is orthogonal to r by construction, to the rounding of its own size.
+    using std::abs;
+    const T largest = std::max({abs(p.w), abs(p.x), abs(p.y), abs(p.z)});
+    if (abs(k) > largest) return {r, Quaternion<T>::pure((d * r.conjugate()).vec()) * r};
+    return {r, p};
   }
   void normalize() { *this = normalized(); }
 

@@ -21,6 +21,7 @@ namespace dq {
 struct SkinInfluence {
   std::uint32_t joint = 0;  ///< runtime joint index in ImportedScene::skeleton
   float weight = 0;
+  friend bool operator==(const SkinInfluence&, const SkinInfluence&) = default;
 };
 
 struct ImportedMesh {
@@ -51,9 +52,16 @@ struct ImportedScene {
 struct ImportOptions {
   double sample_rate = 30;  ///< frames per second for resampled animations (0 < rate ≤ 1000)
   bool meshes = true;       ///< import mesh geometry and skins
+  /// Run Assimp in a child process. Assimp 5.2 crashes, hangs or exhausts memory on some malformed
+  /// files (found by dqkit's fuzzing, docs/reliability.md); isolated, such a file gives an Error
+  /// ("the importer crashed on this file") instead of taking the program down.
+  bool isolate = true;
+  double timeout_seconds = 120;       ///< isolated import only: give up after this long
+  std::size_t memory_limit_mb = 8192;  ///< isolated import only: address-space limit of the child
 };
 
-/// Imports a file. Errors say which file and what the importer reported; nothing throws.
+/// Imports a file. Errors say which file and what the importer reported; nothing throws, and
+/// with `isolate` (the default) no input file can crash or hang the caller.
 Expected<ImportedScene> import_scene(const std::filesystem::path& path, const ImportOptions& options = {});
 /// The same from memory (for fuzzing); `hint` is the file extension ("gltf", "fbx", ...).
 Expected<ImportedScene> import_scene_from_memory(std::span<const std::uint8_t> data, const std::string& hint,
