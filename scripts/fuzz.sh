@@ -54,7 +54,7 @@ run_one() {
       [ -e "$a" ] || continue
       crashes=$((crashes + 1))
       cp "$a" "$build/work/replay.$corpus"
-      "$build/tools/dqkit" info "$build/work/replay.$corpus" > /dev/null 2>&1
+      "$build/tools/dqkit" info --import-timeout 5 "$build/work/replay.$corpus" > /dev/null 2>&1
       local code=$?
       if [ "$code" -ne 1 ]; then
         echo "$name: the isolated importer did not turn $a into a clean error (exit $code)"

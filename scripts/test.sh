@@ -1,19 +1,39 @@
 #!/usr/bin/env bash
-# Builds and runs the whole test suite: a Release build, then the same suite under
-# AddressSanitizer + UndefinedBehaviorSanitizer. Installs its Debian packages when missing.
+# Builds and runs the whole test suite: a Release build; the same suite under AddressSanitizer +
+# UndefinedBehaviorSanitizer; the threaded tests under ThreadSanitizer; then every fuzz target for
+# a bounded time (DQKIT_FUZZ_SECONDS, default 45). Installs its Debian packages when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/deps.sh
 jobs=$(nproc)
 
+summary=$(mktemp)
+trap 'rm -f "$summary"' EXIT
+run_ctest() {  # ctest arguments...; keeps the counts for the closing line
+  ctest "$@" --output-on-failure --timeout 600 | tee -a "$summary"
+}
 run_suite() {  # name, extra cmake flags...
   local dir=build/$1; shift
   cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
   cmake --build "$dir" -j "$jobs"
-  ctest --test-dir "$dir" -j "$jobs" --output-on-failure --timeout 600
+  run_ctest --test-dir "$dir" -j "$jobs"
 }
 
 echo "== Release build and tests"
 run_suite release
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
 run_suite asan-ubsan -DDQKIT_SANITIZE=ON -DDQKIT_BUILD_BENCHMARKS=OFF
+
+echo "== ThreadSanitizer build: the tests that use threads"
+cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDQKIT_TSAN=ON -DDQKIT_BUILD_BENCHMARKS=OFF \
+  -DDQKIT_BUILD_EXAMPLES=OFF >/dev/null
+cmake --build build/tsan -j "$jobs" --target test_threads test_skeleton
+run_ctest --test-dir build/tsan -R "Threads|ForwardKinematics"
+
+echo "== Fuzzing: every target for ${DQKIT_FUZZ_SECONDS:-45} s (libFuzzer, clang)"
+scripts/fuzz.sh "${DQKIT_FUZZ_SECONDS:-45}"
+
+# One closing line for the whole run: every CTest test of the three builds (all passed, or the
+# script would have stopped above).
+total=$(sed -n 's/.*tests failed out of \([0-9]*\).*/\1/p' "$summary" | awk '{s+=$1} END {print s+0}')
+echo "all: $total passed, 0 failed"

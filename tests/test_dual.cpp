@@ -138,6 +138,12 @@ TEST(Dual, SqrtOfConstantZeroHasNoNaN) {
   EXPECT_TRUE(std::isinf(dq::sqrt(D(0.0, 1.0)).dual));  // d√x/dx at 0 is infinite, as for reals
 }
 
+TEST(Dual, HypotAtTheOriginHasTheOneSidedDerivative) {
+  const D h = dq::hypot(D(0, 3), D(0, 4));  // |ε(3, 4)| = 5ε
+  EXPECT_EQ(h.real, 0);
+  EXPECT_EQ(h.dual, 5);
+}
+
 TEST(Dual, NaNPropagates) {
   const D n(std::numeric_limits<double>::quiet_NaN(), 1);
   EXPECT_TRUE(dq::isnan(dq::sin(n)));

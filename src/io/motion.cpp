@@ -24,6 +24,7 @@ Expected<Motion> load_motion(const std::filesystem::path& path, const MotionOpti
   }
   ImportOptions io;
   io.sample_rate = options.sample_rate;
+  io.timeout_seconds = options.import_timeout;
   Expected<ImportedScene> scene = import_scene(path, io);
   if (!scene) return scene.error();
   m.format = ext.empty() ? "unknown" : ext.substr(1);

@@ -75,6 +75,7 @@ std::vector<std::size_t> parse_frame_list(const std::string& text, std::size_t c
 int info(const InfoArgs& args) {
   MotionOptions options;
   options.animation = args.animation;
+  options.import_timeout = args.import_timeout;
   Expected<Motion> m = load_motion(args.file, options);
   if (!m) return fail(m.error().message);
   print_warnings(m->warnings);
@@ -126,6 +127,7 @@ int info(const InfoArgs& args) {
 int fk(const FkArgs& args) {
   MotionOptions options;
   options.animation = args.animation;
+  options.import_timeout = args.import_timeout;
   Expected<Motion> m = load_motion(args.file, options);
   if (!m) return fail(m.error().message);
   print_warnings(m->warnings);
@@ -184,6 +186,7 @@ int convert(const ConvertArgs& args) {
   MotionOptions options;
   options.animation = args.animation;
   options.sample_rate = args.rate;
+  options.import_timeout = args.import_timeout;
   Expected<Motion> m = load_motion(args.input, options);
   if (!m) return fail(m.error().message);
   print_warnings(m->warnings);

@@ -10,6 +10,7 @@ namespace dq::cli {
 struct InfoArgs {
   std::string file;
   std::size_t animation = 0;
+  double import_timeout = 120;
 };
 int info(const InfoArgs& args);
 
@@ -21,6 +22,7 @@ struct FkArgs {
   std::string output;  ///< empty: stdout
   bool force = false;
   std::size_t animation = 0;
+  double import_timeout = 120;
 };
 int fk(const FkArgs& args);
 
@@ -30,6 +32,7 @@ struct ConvertArgs {
   bool force = false;
   std::size_t animation = 0;
   double rate = 30;
+  double import_timeout = 120;
 };
 int convert(const ConvertArgs& args);
 

@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
   CLI::App* info_cmd = app.add_subcommand("info", "Joints, hierarchy, frames, frame time and channels of a motion file");
   info_cmd->add_option("file", info.file, "BVH, glTF, FBX, Collada, X, IQM, ... file")->required();
   info_cmd->add_option("--animation", info.animation, "Which animation of a multi-animation file (from 0)");
+  const char* timeout_help = "Seconds before the importer (a separate process) is abandoned";
+  info_cmd->add_option("--import-timeout", info.import_timeout, timeout_help)->check(CLI::Range(0.001, 86400.0));
 
   dq::cli::FkArgs fk;
   CLI::App* fk_cmd = app.add_subcommand("fk", "World position and rotation of every joint, per frame");
@@ -23,6 +25,7 @@ int main(int argc, char** argv) {
   fk_cmd->add_option("-o,--output", fk.output, "Write to this file instead of standard output");
   fk_cmd->add_flag("--force", fk.force, "Replace the output file if it exists");
   fk_cmd->add_option("--animation", fk.animation, "Which animation of a multi-animation file (from 0)");
+  fk_cmd->add_option("--import-timeout", fk.import_timeout, timeout_help)->check(CLI::Range(0.001, 86400.0));
 
   dq::cli::ConvertArgs convert;
   CLI::App* convert_cmd = app.add_subcommand("convert", "Convert a motion file to BVH (optionally changing the rotation order)");
@@ -32,6 +35,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX", "XYX", "XZX", "YXY", "YZY", "ZXZ", "ZYZ"}));
   convert_cmd->add_flag("--force", convert.force, "Replace the output file if it exists");
   convert_cmd->add_option("--animation", convert.animation, "Which animation of a multi-animation file (from 0)");
+  convert_cmd->add_option("--import-timeout", convert.import_timeout, timeout_help)->check(CLI::Range(0.001, 86400.0));
   convert_cmd->add_option("--rate", convert.rate, "Frames per second when resampling imported animations")->check(CLI::Range(0.001, 1000.0));
 
   CLI11_PARSE(app, argc, argv);

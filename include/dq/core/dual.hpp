@@ -220,11 +220,13 @@ Dual<T> atanh(const Dual<T>& x) {
   return {atanh(x.real), x.dual / (T(1) - x.real * x.real)};
 }
 /// hypot(x, y) without overflow; derivative (x x' + y y')/h, 0 where both derivative parts are 0.
+/// At the origin the derivative is the one-sided one, |(x', y')| (as for abs).
 template <class T>
 Dual<T> hypot(const Dual<T>& x, const Dual<T>& y) {
   using std::hypot;
   const T h = hypot(x.real, y.real);
   if (x.dual == T(0) && y.dual == T(0)) return {h, T(0)};
+  if (h == T(0)) return {h, hypot(x.dual, y.dual)};
   return {h, (x.real * x.dual + y.real * y.dual) / h};
 }
 /// |x|; at a = 0 the one-sided derivative of the sign of b is taken (|0 + εb| = ε|b|).

@@ -254,9 +254,12 @@ struct Quaternion {
     for (const T* c : {&x, &y, &z}) s = abs(*c) > s ? abs(*c) : s;
     return s;
   }
+  /// |v|: the fast √(v·v) where v·v neither underflows nor overflows, hypot otherwise (so that the
+  /// axis of a rotation by 1e-20 rad in float is still exact).
   static T norm_of(const Vec3<T>& v) {
     using std::sqrt;
-    return sqrt(dot(v, v));
+    const T n2 = dot(v, v);
+    return in_safe_range(n2) ? sqrt(n2) : dq::norm(v);
   }
   // Unit a, b not antiparallel: q = (1 + a·b, a × b) normalized (the half-way construction).
   static Quaternion from_unit_close(const Vec3<T>& a, const Vec3<T>& b) {

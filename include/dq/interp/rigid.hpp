@@ -21,7 +21,9 @@ DualQuaternion<T> sclerp(const DualQuaternion<T>& a, const DualQuaternion<T>& b,
                          Path path = Path::shortest, InterpolationReport* report = nullptr) {
   DualQuaternion<T> d = a.conjugate() * b;  // a⁻¹ b for unit a
   d = detail::align_sign(d, d.real.w, path, report);
-  return a * exp(log(d) * t);
+  // Renormalized: with translations far larger than the result's, the product cancels and its
+  // rounding (tiny relative to the inputs) would otherwise break the unit condition of the output.
+  return (a * exp(log(d) * t)).normalized();
 }
 
 /// The sign policy of dlb: each input's sign is aligned with a pivot, not with the running sum.

@@ -25,6 +25,7 @@ struct Motion {
 struct MotionOptions {
   std::size_t animation = 0;  ///< which animation of a multi-animation file
   double sample_rate = 30;    ///< resampling rate for imported animations
+  double import_timeout = 120;  ///< seconds before an (isolated) import is abandoned
 };
 
 Expected<Motion> load_motion(const std::filesystem::path& path, const MotionOptions& options = {});
