@@ -29,6 +29,14 @@ using namespace dq;
 
 // ---- the representations, each with compose, renormalize and readouts ---------------------------
 
+/// Replaces the rotation block of a 3x4 or 4x4 matrix by its orthonormalized version.
+template <int R, class F>
+void repair_rotation_block(Mat<float, R, 4>& m, F orthonormalize) {
+  const Mat3<float> r = orthonormalize(rotation_block(m));
+  for (int c = 0; c < 3; ++c)
+    for (int row = 0; row < 3; ++row) m(row, c) = r(row, c);
+}
+
 struct Mat4Rep {
   using X = Mat4<float>;
   static X make(const DualQuaternion<double>& q) { return narrow(to_mat4(q)); }
@@ -37,9 +45,7 @@ struct Mat4Rep {
   static Vec3<float> position(const X& m) { return {m(0, 3), m(1, 3), m(2, 3)}; }
   template <class F>
   static void repair(X& m, F orthonormalize) {
-    const Mat3<float> r = orthonormalize(rotation_block(m));
-    for (int c = 0; c < 3; ++c)
-      for (int row = 0; row < 3; ++row) m(row, c) = r(row, c);
+    repair_rotation_block(m, orthonormalize);
     m(3, 0) = m(3, 1) = m(3, 2) = 0;  // a 4x4 can also drift in its last row
     m(3, 3) = 1;
   }
@@ -63,9 +69,7 @@ struct Mat34Rep {
   static Vec3<float> position(const X& m) { return {m(0, 3), m(1, 3), m(2, 3)}; }
   template <class F>
   static void repair(X& m, F orthonormalize) {
-    const Mat3<float> r = orthonormalize(rotation_block(m));
-    for (int c = 0; c < 3; ++c)
-      for (int row = 0; row < 3; ++row) m(row, c) = r(row, c);
+    repair_rotation_block(m, orthonormalize);
   }
 };
 

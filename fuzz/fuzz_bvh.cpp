@@ -8,15 +8,11 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "check.hpp"
 #include "dq/io/bvh.hpp"
 
 namespace {
-void check(bool ok, const char* what) {
-  if (!ok) {
-    std::fprintf(stderr, "property violated: %s\n", what);
-    std::abort();
-  }
-}
+using dq::fuzz::check;
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -5,15 +5,11 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "check.hpp"
 #include "dq/io/scene.hpp"
 
 namespace {
-void check(bool ok, const char* what) {
-  if (!ok) {
-    std::fprintf(stderr, "property violated: %s\n", what);
-    std::abort();
-  }
-}
+using dq::fuzz::check;
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

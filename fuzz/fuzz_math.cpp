@@ -8,15 +8,11 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "check.hpp"
 #include "dq/dq.hpp"
 
 namespace {
-void check(bool ok, const char* what) {
-  if (!ok) {
-    std::fprintf(stderr, "property violated: %s\n", what);
-    std::abort();
-  }
-}
+using dq::fuzz::check;
 bool finite(const dq::Quaternion<double>& q) { return std::isfinite(q.w + q.x + q.y + q.z); }
 bool finite(const dq::DualQuaternion<double>& q) { return finite(q.real) && finite(q.dual); }
 bool tame(double v) { return std::isfinite(v) && std::abs(v) < 1e150; }

@@ -72,13 +72,22 @@ std::vector<std::size_t> parse_frame_list(const std::string& text, std::size_t c
   return out;
 }
 
-int info(const InfoArgs& args) {
+namespace {
+/// Loads a motion file with the common options and prints its warnings.
+Expected<Motion> load(const std::string& file, std::size_t animation, double import_timeout, double rate = 30) {
   MotionOptions options;
-  options.animation = args.animation;
-  options.import_timeout = args.import_timeout;
-  Expected<Motion> m = load_motion(args.file, options);
+  options.animation = animation;
+  options.import_timeout = import_timeout;
+  options.sample_rate = rate;
+  Expected<Motion> m = load_motion(file, options);
+  if (m) print_warnings(m->warnings);
+  return m;
+}
+}  // namespace
+
+int info(const InfoArgs& args) {
+  const Expected<Motion> m = load(args.file, args.animation, args.import_timeout);
   if (!m) return fail(m.error().message);
-  print_warnings(m->warnings);
   const Skeleton& s = m->skeleton;
   std::size_t end_sites = 0;
   for (std::size_t j = 0; j < s.size(); ++j) end_sites += s.is_end_site(j);
@@ -125,12 +134,8 @@ int info(const InfoArgs& args) {
 }
 
 int fk(const FkArgs& args) {
-  MotionOptions options;
-  options.animation = args.animation;
-  options.import_timeout = args.import_timeout;
-  Expected<Motion> m = load_motion(args.file, options);
+  const Expected<Motion> m = load(args.file, args.animation, args.import_timeout);
   if (!m) return fail(m.error().message);
-  print_warnings(m->warnings);
   const Skeleton& s = m->skeleton;
   const Animation& a = m->animation;
   // A file without animation has one frame: the rest pose.
@@ -183,13 +188,8 @@ int convert(const ConvertArgs& args) {
   std::error_code ec;
   if (std::filesystem::exists(args.output, ec) && std::filesystem::equivalent(args.input, args.output, ec))
     return fail(args.output + ": is the input file; write to another file");
-  MotionOptions options;
-  options.animation = args.animation;
-  options.sample_rate = args.rate;
-  options.import_timeout = args.import_timeout;
-  Expected<Motion> m = load_motion(args.input, options);
+  const Expected<Motion> m = load(args.input, args.animation, args.import_timeout, args.rate);
   if (!m) return fail(m.error().message);
-  print_warnings(m->warnings);
   std::optional<EulerOrder> order;
   if (!args.rotation_order.empty()) order = parse_order(args.rotation_order);
   BvhFile out = m->bvh ? (order ? with_rotation_order(*m->bvh, *order) : *m->bvh)
