@@ -32,7 +32,8 @@ run_one() {
   local extra=(-rss_limit_mb=2048)
   [[ $name == import_* ]] && extra=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 -rss_limit_mb=4096 -detect_leaks=0)
   # (Fork mode exits non-zero after ignored crashes: for the importers the checks below decide.)
-  if ! "$build/fuzz/$target" -max_total_time="$seconds" -timeout=10 "${extra[@]}" -print_final_stats=1 \
+  # A fixed seed makes a CI run reproducible: the same inputs are tried, in the same order.
+  if ! "$build/fuzz/$target" -seed=1 -max_total_time="$seconds" -timeout=10 "${extra[@]}" -print_final_stats=1 \
       -artifact_prefix="$build/artifacts/$name-" "$work" > "$build/$name.log" 2>&1 && [[ $name != import_* ]]; then
     echo "$name: CRASH (see $build/$name.log and $build/artifacts/)"
     tail -30 "$build/$name.log"

@@ -140,6 +140,7 @@ TEST(Bvh, MalformedInputIsRejectedWithTheRightLine) {
       {"", "x:1: expected 'HIERARCHY', found end of file"},
       {"HIERARCHY\nJOINT A", "x:2: expected 'ROOT', found 'JOINT'"},
       {"HIERARCHY\nROOT\n{", "x:2: expected a joint name after 'ROOT'"},
+      {"HIERARCHY\nROOT A { {\n", "x:2: a joint name may not contain '{' or '}'"},  // found by fuzzing
       {"HIERARCHY\nROOT A\n{\nOFFSET 0 zero 0", "x:4: expected a finite number, found 'zero'"},
       {"HIERARCHY\nROOT A\n{\nOFFSET 0 nan 0", "x:4: expected a finite number, found 'nan'"},
       {"HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 7", "x:5: expected a channel count from 0 to 6, found '7'"},

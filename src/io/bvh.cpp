@@ -175,6 +175,9 @@ class Parser {
       if (i) name += ' ';
       name += rest[i].text;
     }
+    // Braces delimit blocks: a name containing one could not be written back unambiguously.
+    if (name.find_first_of("{}") != std::string::npos)
+      return fail_line(keyword.line, "a joint name may not contain '{' or '}'");
     return std::nullopt;
   }
 
