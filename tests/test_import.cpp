@@ -106,7 +106,9 @@ TEST(Import, IsolationTurnsImporterCrashesAndHangsIntoErrors) {
   const std::filesystem::path crasher = std::filesystem::path(DQKIT_SOURCE_DIR) / "fuzz/regressions/assimp_crashers/assimp_iqm_header_crash.iqm";
   const Expected<ImportedScene> s = import_scene(crasher);
   ASSERT_FALSE(s);
-  EXPECT_NE(s.error().message.find("assimp_iqm_header_crash.iqm: the importer"), std::string::npos) << s.error().message;
+  // With Debian's Assimp 5.2 this is "...: the importer (Assimp) crashed on this file (...)"; a
+  // fixed Assimp would reject the file with its own message. Either way: an error naming the file.
+  EXPECT_NE(s.error().message.find("assimp_iqm_header_crash.iqm: "), std::string::npos) << s.error().message;
   // A deadline that cannot be met: the child is killed and the caller told.
   ImportOptions quick;
   quick.timeout_seconds = 1e-6;
