@@ -6,9 +6,14 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <ostream>
 #include <type_traits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "dq/core/matrix.hpp"
 #include "dq/core/scalar.hpp"
@@ -56,6 +61,16 @@ T sinc(const T& x) {
 }  // namespace detail
 
 template <class T>
+struct Quaternion;
+#if defined(__SSE2__)
+namespace detail {
+/// (w, x, y, z) in SSE lanes 0..3: r = a_w b + a_x (−b_x, b_w, −b_z, b_y) + a_y (−b_y, b_z, b_w, −b_x)
+///                                      + a_z (−b_z, −b_y, b_x, b_w).
+inline Quaternion<float> hamilton_sse(const Quaternion<float>& a, const Quaternion<float>& b) noexcept;
+}  // namespace detail
+#endif
+
+template <class T>
 struct AxisAngle {
   Vec3<T> axis{T(1), T(0), T(0)};  ///< unit axis; (1, 0, 0) for the identity
   T angle{};                       ///< radians, in [0, π] when produced by dqkit
@@ -91,8 +106,15 @@ struct Quaternion {
   friend constexpr Quaternion operator/(const Quaternion& a, const T& s) noexcept {
     return {a.w / s, a.x / s, a.y / s, a.z / s};
   }
-  /// The Hamilton product: 16 multiplications, 12 additions.
+  /// The Hamilton product: 16 multiplications, 12 additions. For float on x86-64 it runs as
+  /// four-wide SSE2 (the baseline of every x86-64 CPU), with the same operations in the same order
+  /// per component, so the result is bit-identical to the scalar formula.
   friend constexpr Quaternion operator*(const Quaternion& a, const Quaternion& b) noexcept {
+#if defined(__SSE2__)
+    if constexpr (std::is_same_v<T, float>) {
+      if (!std::is_constant_evaluated()) return detail::hamilton_sse(a, b);
+    }
+#endif
     return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
             a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
   }
@@ -266,6 +288,31 @@ struct Quaternion {
     return Quaternion(T(1) + dot(a, b), cross(a, b)).normalized();
   }
 };
+
+#if defined(__SSE2__)
+namespace detail {
+inline Quaternion<float> hamilton_sse(const Quaternion<float>& a, const Quaternion<float>& b) noexcept {
+  __m128 va, vb;
+  std::memcpy(&va, &a, sizeof va);
+  std::memcpy(&vb, &b, sizeof vb);
+  const __m128 aw = _mm_shuffle_ps(va, va, _MM_SHUFFLE(0, 0, 0, 0));
+  const __m128 ax = _mm_shuffle_ps(va, va, _MM_SHUFFLE(1, 1, 1, 1));
+  const __m128 ay = _mm_shuffle_ps(va, va, _MM_SHUFFLE(2, 2, 2, 2));
+  const __m128 az = _mm_shuffle_ps(va, va, _MM_SHUFFLE(3, 3, 3, 3));
+  // Sign masks flip lanes by xor (exact, like the scalar subtraction).
+  const __m128 s1 = _mm_castsi128_ps(_mm_set_epi32(0, INT32_MIN, 0, INT32_MIN));          // (−, +, −, +)
+  const __m128 s2 = _mm_castsi128_ps(_mm_set_epi32(INT32_MIN, 0, 0, INT32_MIN));          // (−, +, +, −)
+  const __m128 s3 = _mm_castsi128_ps(_mm_set_epi32(0, 0, INT32_MIN, INT32_MIN));          // (−, −, +, +)
+  const __m128 b1 = _mm_xor_ps(_mm_shuffle_ps(vb, vb, _MM_SHUFFLE(2, 3, 0, 1)), s1);  // (bx, bw, bz, by)
+  const __m128 b2 = _mm_xor_ps(_mm_shuffle_ps(vb, vb, _MM_SHUFFLE(1, 0, 3, 2)), s2);  // (by, bz, bw, bx)
+  const __m128 b3 = _mm_xor_ps(_mm_shuffle_ps(vb, vb, _MM_SHUFFLE(0, 1, 2, 3)), s3);  // (bz, by, bx, bw)
+  const __m128 r = _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(aw, vb), _mm_mul_ps(ax, b1)), _mm_mul_ps(ay, b2)), _mm_mul_ps(az, b3));
+  Quaternion<float> out;
+  std::memcpy(static_cast<void*>(&out), &r, sizeof r);  // trivially copyable, four floats
+  return out;
+}
+}  // namespace detail
+#endif
 
 template <class T>
 constexpr T dot(const Quaternion<T>& a, const Quaternion<T>& b) noexcept {
