@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <mutex>
 #include <type_traits>
 #include <unordered_map>
 
@@ -397,6 +398,11 @@ constexpr bool kSanitized = false;
 /// an exhausted memory limit in the child becomes an Error naming the file.
 Expected<ImportedScene> run_isolated(const std::function<Expected<ImportedScene>()>& work, const std::string& source,
                                      const ImportOptions& options) {
+  // One fork at a time in this process: two importing threads forking at once would each leak
+  // its pipe into the other's child, and a child copied while a sibling thread held a lock of
+  // ours could block on it.
+  static std::mutex fork_mutex;
+  std::unique_lock lock(fork_mutex);
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) return Error{source + ": cannot create a pipe: " + std::strerror(errno)};
   const pid_t pid = ::fork();
@@ -408,6 +414,13 @@ Expected<ImportedScene> run_isolated(const std::function<Expected<ImportedScene>
   if (pid == 0) {  // child: import, send the result, leave without running the parent's exit code
     ::close(fds[0]);
     if (const int null = ::open("/dev/null", O_WRONLY); null >= 0) ::dup2(null, 2);  // glibc's abort messages
+    // Keep only stdin/out/err and the result pipe (as fd 3): no descriptor of the parent's, such as
+    // another import's pipe, stays open in this child.
+    if (fds[1] != 3) {
+      ::dup2(fds[1], 3);
+      fds[1] = 3;
+    }
+    ::close_range(4, ~0U, 0);
     if (!kSanitized && options.memory_limit_mb > 0) {
       const rlim_t bytes = static_cast<rlim_t>(options.memory_limit_mb) << 20;
       const rlimit limit{bytes, bytes};
@@ -429,6 +442,7 @@ Expected<ImportedScene> run_isolated(const std::function<Expected<ImportedScene>
     ::_exit(0);
   }
   ::close(fds[1]);
+  lock.unlock();
   std::string payload;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout_seconds);
   bool timed_out = false;
