@@ -125,43 +125,33 @@ void PointMat34(benchmark::State& state) {
 }
 
 // ---- interpolation ---------------------------------------------------------------------------------
-void SlerpDqkit(benchmark::State& state) {
+/// slerp over 1024 random pairs, the inputs converted once to the library's type by `make`.
+template <class Q, class Make, class Slerp>
+void SlerpWith(benchmark::State& state, Make make, Slerp slerp) {
   const auto a = random_transforms<float>(5), b = random_transforms<float>(6);
-  std::vector<dq::Quaternion<float>> out(kCount);
+  std::vector<Q> qa, qb, out(kCount);
+  for (std::size_t i = 0; i < kCount; ++i) {
+    qa.push_back(make(a[i].real));
+    qb.push_back(make(b[i].real));
+  }
   for (auto _ : state) {
-    for (std::size_t i = 0; i < kCount; ++i) out[i] = dq::slerp(a[i].real, b[i].real, 0.3f);
+    for (std::size_t i = 0; i < kCount; ++i) out[i] = slerp(qa[i], qb[i], 0.3f);
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * kCount));
 }
-void SlerpEigen(benchmark::State& state) {
-  const auto a = random_transforms<float>(5), b = random_transforms<float>(6);
-  std::vector<Eigen::Quaternionf> ea, eb, out(kCount);
-  for (std::size_t i = 0; i < kCount; ++i) {
-    ea.push_back(dq::eigen::to_eigen(a[i].real));
-    eb.push_back(dq::eigen::to_eigen(b[i].real));
-  }
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kCount; ++i) out[i] = ea[i].slerp(0.3f, eb[i]);
-    benchmark::DoNotOptimize(out.data());
-    benchmark::ClobberMemory();
-  }
-  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * kCount));
+void SlerpDqkit(benchmark::State& s) {
+  SlerpWith<dq::Quaternion<float>>(s, [](const auto& q) { return q; },
+                                   [](const auto& x, const auto& y, float t) { return dq::slerp(x, y, t); });
 }
-void SlerpGlm(benchmark::State& state) {
-  const auto a = random_transforms<float>(5), b = random_transforms<float>(6);
-  std::vector<glm::quat> ga, gb, out(kCount);
-  for (std::size_t i = 0; i < kCount; ++i) {
-    ga.push_back(dq::glm_interop::to_glm(a[i].real));
-    gb.push_back(dq::glm_interop::to_glm(b[i].real));
-  }
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < kCount; ++i) out[i] = glm::slerp(ga[i], gb[i], 0.3f);
-    benchmark::DoNotOptimize(out.data());
-    benchmark::ClobberMemory();
-  }
-  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * kCount));
+void SlerpEigen(benchmark::State& s) {
+  SlerpWith<Eigen::Quaternionf>(s, [](const auto& q) { return dq::eigen::to_eigen(q); },
+                                [](const auto& x, const auto& y, float t) { return x.slerp(t, y); });
+}
+void SlerpGlm(benchmark::State& s) {
+  SlerpWith<glm::quat>(s, [](const auto& q) { return dq::glm_interop::to_glm(q); },
+                       [](const auto& x, const auto& y, float t) { return glm::slerp(x, y, t); });
 }
 void SclerpDqkit(benchmark::State& state) {
   const auto a = random_transforms<float>(5), b = random_transforms<float>(6);

@@ -34,8 +34,7 @@ const Data& data() {
     const dq::Animation anim = dq::bvh_animation(*bvh, out.skeleton);
     for (std::size_t p = 0; p < out.poses; ++p)
       for (const auto& q : anim.frame(p % anim.frame_count))
-        out.local.push_back({float(q.real.w), float(q.real.x), float(q.real.y), float(q.real.z), float(q.dual.w), float(q.dual.x),
-                             float(q.dual.y), float(q.dual.z)});
+        out.local.push_back(q.cast<float>());
     return out;
   }();
   return d;

@@ -80,7 +80,7 @@ struct QuatVecRep {
   };
   static X make(const DualQuaternion<double>& q) {
     const Vec3<double> t = q.translation();
-    return {{float(q.real.w), float(q.real.x), float(q.real.y), float(q.real.z)}, {float(t.x), float(t.y), float(t.z)}};
+    return {q.real.cast<float>(), {float(t.x), float(t.y), float(t.z)}};
   }
   static X compose(const X& a, const X& b) { return {a.r * b.r, a.r.rotate(b.t) + a.t}; }
   static Mat3<float> rotation(const X& x) { return x.r.to_matrix(); }
@@ -91,8 +91,7 @@ struct QuatVecRep {
 struct DualQuatRep {
   using X = DualQuaternion<float>;
   static X make(const DualQuaternion<double>& q) {
-    return {float(q.real.w), float(q.real.x), float(q.real.y), float(q.real.z),
-            float(q.dual.w), float(q.dual.x), float(q.dual.y), float(q.dual.z)};
+    return q.cast<float>();
   }
   static X compose(const X& a, const X& b) { return a * b; }
   static Mat3<float> rotation(const X& x) { return x.real.to_matrix(); }

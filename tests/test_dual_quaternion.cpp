@@ -178,6 +178,16 @@ TEST(DualQuaternion, ApproxEqualKnowsThatMinusQIsTheSameTransform) {
   EXPECT_FALSE(q == -q);
 }
 
+TEST(DualQuaternion, CastBetweenScalarTypes) {
+  const DualQuaternion<float> f(0.5f, -0.5f, 0.25f, 1e-30f, 3.0f, -7.5f, 1e20f, 0.1f);
+  const DualQuaternion<double> d = f.cast<double>();
+  EXPECT_EQ(d.real.x, -0.5);
+  EXPECT_EQ(d.real.z, double(1e-30f));
+  EXPECT_EQ(d.dual.z, double(1e20f));
+  EXPECT_EQ(d.cast<float>(), f);  // float → double → float is exact
+  EXPECT_EQ(Quaternion<double>(0.1, 0.2, 0.3, 0.4).cast<float>(), Quaternion<float>(0.1f, 0.2f, 0.3f, 0.4f));
+}
+
 TEST(DualQuaternion, DualScalarMultiplication) {
   const DualQuaternion<double> q(1, 2, 3, 4, 5, 6, 7, 8);
   const DualQuaternion<double> s = Dual<double>(2, 3) * q;

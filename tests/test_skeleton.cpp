@@ -133,8 +133,7 @@ TEST(ForwardKinematics, BatchJobEqualsPerPoseAndValidates) {
     std::vector<DualQuaternion<double>> l(joints);
     biped.pose(q, l);
     for (std::size_t j = 0; j < joints; ++j)
-      local.set(j, p, DualQuaternion<float>(float(l[j].real.w), float(l[j].real.x), float(l[j].real.y), float(l[j].real.z),
-                                            float(l[j].dual.w), float(l[j].dual.x), float(l[j].dual.y), float(l[j].dual.z)));
+      local.set(j, p, l[j].cast<float>());
     local_to_model<DualQuaternion<double>>(biped.skeleton(), l, expected[p]);
   }
   ForwardKinematicsJob<float> job{biped.skeleton().parents(), local, model, 0, poses};

@@ -79,12 +79,8 @@ void sample(const Animation& anim, double time, Interpolation mode, WrapMode wra
   const T u = static_cast<T>(x - static_cast<double>(f0));
   const auto a = anim.frame(f0), b = anim.frame(f1);
   for (std::size_t j = 0; j < anim.joint_count && j < out.size(); ++j) {
-    auto narrow = [](const DualQuaternion<double>& q) {
-      return DualQuaternion<T>(static_cast<T>(q.real.w), static_cast<T>(q.real.x), static_cast<T>(q.real.y),
-                               static_cast<T>(q.real.z), static_cast<T>(q.dual.w), static_cast<T>(q.dual.x),
-                               static_cast<T>(q.dual.y), static_cast<T>(q.dual.z));
-    };
-    out[j] = (u == T(0) || f0 == f1) ? narrow(a[j]) : interpolate(narrow(a[j]), narrow(b[j]), u, mode);
+    out[j] = (u == T(0) || f0 == f1) ? a[j].template cast<T>()
+                                      : interpolate(a[j].template cast<T>(), b[j].template cast<T>(), u, mode);
   }
 }
 

@@ -50,6 +50,12 @@ struct DualQuaternion {
       : real(rw, rx, ry, rz), dual(dw, dx, dy, dz) {}
 
   static constexpr DualQuaternion identity() noexcept { return {}; }
+
+  /// The same dual quaternion in another scalar type (each component converted with static_cast).
+  template <class U>
+  constexpr DualQuaternion<U> cast() const noexcept {
+    return {real.template cast<U>(), dual.template cast<U>()};
+  }
   /// A pure rotation by the unit quaternion r.
   static constexpr DualQuaternion from_rotation(const Quaternion<T>& r) noexcept {
     return {r, Quaternion<T>(T(0), T(0), T(0), T(0))};

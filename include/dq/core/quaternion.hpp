@@ -91,6 +91,12 @@ struct Quaternion {
 
   constexpr Vec3<T> vec() const noexcept { return {x, y, z}; }
 
+  /// The same quaternion in another scalar type (each component converted with static_cast).
+  template <class U>
+  constexpr Quaternion<U> cast() const noexcept {
+    return {static_cast<U>(w), static_cast<U>(x), static_cast<U>(y), static_cast<U>(z)};
+  }
+
   // ---- algebra --------------------------------------------------------------------------------
   friend constexpr Quaternion operator-(const Quaternion& q) noexcept { return {-q.w, -q.x, -q.y, -q.z}; }
   friend constexpr Quaternion operator+(const Quaternion& a, const Quaternion& b) noexcept {
