@@ -183,7 +183,8 @@ TEST(DualQuaternion, CastBetweenScalarTypes) {
   const DualQuaternion<double> d = f.cast<double>();
   EXPECT_EQ(d.real.x, -0.5);
   EXPECT_EQ(d.real.z, double(1e-30f));
-  EXPECT_EQ(d.dual.z, double(1e20f));
+  EXPECT_EQ(d.dual.y, double(1e20f));
+  EXPECT_EQ(d.dual.z, double(0.1f));
   EXPECT_EQ(d.cast<float>(), f);  // float → double → float is exact
   EXPECT_EQ(Quaternion<double>(0.1, 0.2, 0.3, 0.4).cast<float>(), Quaternion<float>(0.1f, 0.2f, 0.3f, 0.4f));
 }
