@@ -2,7 +2,9 @@
 // quaternions, sclerp against an independent se(3) matrix exponential, dlb and dib.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <limits>
 #include <cmath>
 #include <vector>
 
@@ -162,7 +164,11 @@ TEST(ScrewCalculus, ExpOfLogAndLogOfExp) {
   Random rng(211);
   for (int n = 0; n < 5000; ++n) {
     const DualQuaternion<double> q = random_screw_edge(rng, n);
-    EXPECT_TRUE(approx_equal(exp(log(q)), q, 1e-13)) << n;
+    // Near a 2π turn (w < 0) log is ill-conditioned: its dual part grows like 1/sinc(θ/2), and
+    // the round trip's error with it (a few ulps of the largest component of log q).
+    const DualQuaternion<double> l = log(q);
+    const double scale = std::max({1.0, norm(l.real.vec()), norm(l.dual.vec())});
+    EXPECT_TRUE(approx_equal(exp(l), q, 64 * std::numeric_limits<double>::epsilon() * scale)) << n;
     const DualQuaternion<double> c = q.real.w < 0 ? -q : q;
     EXPECT_TRUE(approx_equal(exp(log(c)), c, 1e-13)) << n;
     // log of exp on the principal domain |u| < π.
@@ -177,7 +183,7 @@ TEST(ScrewCalculus, ExpOfLogAndLogOfExp) {
 
 TEST(ScrewCalculus, SincDerivativeOverXIsAccurateEverywhere) {
   // Reference: the Taylor series in long double with 16 terms (exact to long-double rounding for
-  // |a| ≤ 1), against dqkit's double evaluation (series below 0.5, closed form above).
+  // |a| ≤ 1), against dqkit's double evaluation (series in a² below a = 1, closed form above).
   double worst = 0;
   for (int i = 0; i <= 2000; ++i) {
     const double a = std::pow(10.0, -8.0 + 8.0 * i / 2000.0);  // 1e-8 … 1
@@ -190,7 +196,7 @@ TEST(ScrewCalculus, SincDerivativeOverXIsAccurateEverywhere) {
       power *= a2;
       factorial *= (2.0L * n + 2) * (2.0L * n + 3);
     }
-    const double got = detail::sinc_derivative_over_x(a);
+    const double got = detail::sinc_derivative_over_angle_of_squared(a * a, [] { return 0.0; });
     worst = std::max(worst, static_cast<double>(std::abs((static_cast<long double>(got) - ref) / ref)));
   }
   EXPECT_LE(worst / std::numeric_limits<double>::epsilon(), 8.0);

@@ -3,6 +3,7 @@
 // accumulation, and the NaN policy. Each assertion is a documented bound (docs/reliability.md).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -159,6 +160,76 @@ TEST(Robustness, NaNPolicy) {
   const std::array<DualQuaternion<double>, 1> none{DualQuaternion<double>::identity()};
   const std::array<double, 1> zero{0.0};
   EXPECT_EQ(dlb<double>(none, zero), DualQuaternion<double>::identity());
+}
+
+// ---- the NaN policy, class by class (docs/reliability.md) ------------------------------------------
+
+TEST(NaNPolicy, DenormalInputsGiveUnitResults) {
+  const double den = std::numeric_limits<double>::denorm_min();
+  for (const double a : {den, 3 * den, 1e-310}) {
+    const Quaternion<double> q = Quaternion<double>::from_axis_angle({a, 0, 0}, 1.0);
+    EXPECT_TRUE(std::isfinite(q.x)) << a;
+    EXPECT_NEAR(q.squared_norm(), 1.0, 4 * test::tol<double>(1)) << a;
+    const DualQuaternion<double> d = DualQuaternion<double>(a, a, 0, 0, 0, 0, a, 0).normalized();
+    EXPECT_NEAR(dot(d.real, d.real), 1.0, 4 * test::tol<double>(1)) << a;
+    EXPECT_NEAR(dot(d.real, d.dual), 0.0, 4 * test::tol<double>(1)) << a;
+  }
+  const Quaternion<float> f = Quaternion<float>::from_axis_angle({1e-45f, 0, 0}, 1.0f);
+  EXPECT_NEAR(f.squared_norm(), 1.0f, 4 * test::tol<float>(1));
+}
+
+TEST(NaNPolicy, NaNInputsNeverBecomeFinite) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto has_nan = [](const auto& q) {
+    const auto* c = &q.real.w;
+    for (int i = 0; i < 8; ++i)
+      if (std::isnan(c[i])) return true;
+    return false;
+  };
+  EXPECT_TRUE(std::isnan(Quaternion<double>::from_axis_angle({0, 0, 0}, nan).w));
+  VrmlTransform<double> v;
+  v.axis = {0, 0, 0};
+  v.angle = nan;
+  EXPECT_TRUE(has_nan(from_vrml(v)));
+  v.angle = 1;
+  v.center = {nan, 0, 0};
+  EXPECT_TRUE(has_nan(from_vrml(v)));
+  for (const Quaternion<double>& q : {Quaternion<double>(nan, 0, 0, 0), Quaternion<double>(1, nan, 0, 0)}) {
+    const AxisAngle<double> aa = q.to_axis_angle();
+    EXPECT_TRUE(std::isnan(aa.angle) && std::isnan(aa.axis.x) && std::isnan(aa.axis.y)) << q;
+  }
+  // dlb whose weights cancel the real parts while a dual part is NaN.
+  const std::array<DualQuaternion<double>, 2> qs{DualQuaternion<double>(1, 0, 0, 0, 0, nan, 0, 0),
+                                                 DualQuaternion<double>::identity()};
+  const std::array<double, 2> cancelling{1.0, -1.0};
+  EXPECT_TRUE(has_nan(dlb(qs, cancelling)));
+  EXPECT_TRUE(has_nan(DualQuaternion<double>(0, 0, 0, 0, nan, 0, 0, 0).normalized()));
+  Mat4<double> m = to_mat4(DualQuaternion<double>::identity());
+  m(3, 1) = nan;
+  EXPECT_TRUE(has_nan(from_matrix(m)));
+  m(3, 1) = 0;
+  EXPECT_FALSE(has_nan(from_matrix(m)));
+}
+
+TEST(NaNPolicy, DivisionByZeroIsInfiniteLikeForReals) {
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(Quaternion<double>(0, 0, 0, 0).inverse(), Quaternion<double>(inf, 0, 0, 0));
+  EXPECT_EQ(DualQuaternion<double>(0, 0, 0, 0, 1, 2, 3, 4).inverse().real, Quaternion<double>(inf, 0, 0, 0));
+  // Tiny but representable: the inverse is exact, not inf/NaN from an underflowed |q|².
+  EXPECT_EQ(Quaternion<double>(1e-200, 0, 0, 0).inverse(), Quaternion<double>(1e200, 0, 0, 0));
+}
+
+TEST(NaNPolicy, HugeExtrapolationStaysFinite) {
+  // sclerp(a, b, 1e160): the screw scaled by 1e160 has a representable translation (~1e160).
+  const auto a = DualQuaternion<double>::from_rotation_translation(Quaternion<double>::from_axis_angle({0, 0, 1}, 0.3), {1, 2, 3});
+  const auto b = DualQuaternion<double>::from_rotation_translation(Quaternion<double>::from_axis_angle({0, 1, 1}, 0.7), {-1, 2, 5});
+  const DualQuaternion<double> far = sclerp(a, b, 1e160);
+  for (const double c : {far.real.w, far.real.x, far.real.y, far.real.z, far.dual.w, far.dual.x, far.dual.y, far.dual.z})
+    EXPECT_TRUE(std::isfinite(c));
+  EXPECT_NEAR(dot(far.real, far.real), 1.0, 1e-15);
+  // The translation along the screw axis grows linearly: compare with the screw's own d × t.
+  const Screw<double> s = to_screw(a.conjugate() * b);
+  EXPECT_NEAR(dot((a.conjugate() * far).translation(), s.axis.direction) / (s.translation * 1e160), 1.0, 1e-6);
 }
 
 }  // namespace

@@ -149,7 +149,7 @@ TEST(ForwardKinematics, BatchJobEqualsPerPoseAndValidates) {
   }
   // Each invalid field is reported.
   ForwardKinematicsJob<float> bad = job;
-  bad.pose_count = poses + 1;
+  bad.pose_count = local.stride + 1;  // the stride is padded past `poses`
   EXPECT_FALSE(bad.validate());
   bad = job;
   bad.model.rw = bad.model.rw.subspan(0, 3);

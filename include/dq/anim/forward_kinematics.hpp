@@ -5,27 +5,39 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <memory>
+#include <new>
 #include <cstddef>
 #include <span>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #include "dq/anim/skeleton.hpp"
 #include "dq/core/matrix.hpp"
+#include "dq/util/assert.hpp"
 #include "dq/util/expected.hpp"
 
 namespace dq {
 
 /// model[j] = model[parent(j)] · local[j] for the joints in [first, last). Joints before `first`
 /// must already hold model transforms (partial update of a subtree: first = j,
-/// last = skeleton.subtree_end(j)). `local` and `model` have one entry per joint.
+/// last = skeleton.subtree_end(j)). Preconditions: `local` and `model` have one entry per joint,
+/// each parent comes before its child, and `model` is either `local` itself (in place) or does
+/// not overlap it.
 template <class X>
 void local_to_model(std::span<const int> parents, std::span<const X> local, std::span<X> model, std::size_t first = 0,
                     std::size_t last = static_cast<std::size_t>(-1)) {
+  DQ_PRECONDITION(local.size() == parents.size() && model.size() == parents.size(),
+                  "local_to_model needs one local and one model transform per joint");
+  DQ_PRECONDITION(local.data() == model.data() || !overlaps(local, model),
+                  "local_to_model: model must be local itself or not overlap it");
   last = std::min(last, parents.size());
   for (std::size_t j = first; j < last; ++j) {
     const int p = parents[j];
+    DQ_PRECONDITION(p < static_cast<int>(j), "local_to_model: a parent must come before its child");
     model[j] = p < 0 ? local[j] : model[static_cast<std::size_t>(p)] * local[j];
   }
 }
@@ -42,38 +54,72 @@ void update_subtree(const Skeleton& skeleton, std::size_t j, std::span<const X> 
 
 /// Dual quaternions of many poses in structure-of-arrays layout: component c of joint j in pose p
 /// is at `c[j * stride + p]` (poses contiguous per joint). The caller owns the storage.
+/// `DualQuaternionSoA<const T>` is a read-only view (the inputs of jobs); a mutable view converts
+/// to it.
 template <class T>
 struct DualQuaternionSoA {
+  using value_type = std::remove_const_t<T>;
   std::span<T> rw, rx, ry, rz, dw, dx, dy, dz;
   std::size_t stride = 0;  ///< poses per joint row (≥ the number of poses)
 
-  DualQuaternion<T> get(std::size_t joint, std::size_t pose) const {
+  DualQuaternion<value_type> get(std::size_t joint, std::size_t pose) const {
     const std::size_t i = joint * stride + pose;
     return {rw[i], rx[i], ry[i], rz[i], dw[i], dx[i], dy[i], dz[i]};
   }
-  void set(std::size_t joint, std::size_t pose, const DualQuaternion<T>& q) const {
+  void set(std::size_t joint, std::size_t pose, const DualQuaternion<value_type>& q) const
+    requires(!std::is_const_v<T>)
+  {
     const std::size_t i = joint * stride + pose;
     rw[i] = q.real.w, rx[i] = q.real.x, ry[i] = q.real.y, rz[i] = q.real.z;
     dw[i] = q.dual.w, dx[i] = q.dual.x, dy[i] = q.dual.y, dz[i] = q.dual.z;
   }
   std::size_t size() const { return rw.size(); }
+  std::array<std::span<T>, 8> components() const { return {rw, rx, ry, rz, dw, dx, dy, dz}; }
+
+  operator DualQuaternionSoA<const T>() const  // NOLINT: implicit, like span<T> to span<const T>
+    requires(!std::is_const_v<T>)
+  {
+    return {rw, rx, ry, rz, dw, dx, dy, dz, stride};
+  }
 };
 
-/// Owning storage for DualQuaternionSoA (allocates once, at construction).
+/// Owning storage for DualQuaternionSoA (allocates once, at construction). Laid out for SIMD:
+/// the stride (poses per joint row) is rounded up to whole 64-byte cache lines, every component
+/// array starts on a cache line, and consecutive arrays are skewed by one more cache line. Without
+/// the skew, arrays exactly joints × poses floats apart map to the same cache sets whenever that
+/// distance is a multiple of 4 KiB, and the 24 streams of a product evict each other.
 template <class T>
 class DualQuaternionSoAStorage {
  public:
-  DualQuaternionSoAStorage(std::size_t joints, std::size_t poses) : stride_(poses), data_(8 * joints * poses) {}
+  static constexpr std::size_t alignment = 64;
+  static constexpr std::size_t line = alignment / sizeof(T);  ///< elements per cache line
+
+  DualQuaternionSoAStorage(std::size_t joints, std::size_t poses)
+      : stride_(round_up(poses)), component_(round_up(joints * stride_) + line), data_(allocate(8 * component_)) {}
+
   DualQuaternionSoA<T> view() {
-    const std::size_t n = data_.size() / 8;
-    std::span<T> all(data_);
-    return {all.subspan(0, n),     all.subspan(n, n),     all.subspan(2 * n, n), all.subspan(3 * n, n),
-            all.subspan(4 * n, n), all.subspan(5 * n, n), all.subspan(6 * n, n), all.subspan(7 * n, n), stride_};
+    const std::size_t n = joints_size();
+    std::span<T> all(data_.get(), 8 * component_);
+    auto c = [&](std::size_t k) { return all.subspan(k * component_, n); };
+    return {c(0), c(1), c(2), c(3), c(4), c(5), c(6), c(7), stride_};
   }
+  std::size_t stride() const noexcept { return stride_; }
 
  private:
+  struct Free {
+    void operator()(T* p) const noexcept { ::operator delete[](p, std::align_val_t{alignment}); }
+  };
+  static std::size_t round_up(std::size_t n) { return (n + line - 1) / line * line; }
+  static std::unique_ptr<T[], Free> allocate(std::size_t n) {
+    T* p = static_cast<T*>(::operator new[](n * sizeof(T), std::align_val_t{alignment}));
+    std::uninitialized_value_construct_n(p, n);
+    return std::unique_ptr<T[], Free>(p);
+  }
+  std::size_t joints_size() const noexcept { return component_ - line; }
+
   std::size_t stride_;
-  std::vector<T> data_;
+  std::size_t component_;  ///< elements from one component array to the next
+  std::unique_ptr<T[], Free> data_;
 };
 
 namespace detail {
@@ -82,11 +128,18 @@ template <class T>
 struct Row8 {
   T *rw, *rx, *ry, *rz, *dw, *dx, *dy, *dz;
 };
+/// The row at `offset` of eight component arrays.
+template <class X, class Components>
+Row8<X> row_of(const Components& c, std::size_t offset) {
+  return {c[0].data() + offset, c[1].data() + offset, c[2].data() + offset, c[3].data() + offset,
+          c[4].data() + offset, c[5].data() + offset, c[6].data() + offset, c[7].data() + offset};
+}
 /// out[i] = a[i] · b[i] for i in [first, last), component arrays; the rows never overlap (a parent
 /// row is a different joint), which the restrict-qualified copies tell the compiler, so that it
-/// vectorizes across poses.
+/// vectorizes across poses. The product is the one of the scalar types (detail::dual_product with
+/// detail::hamilton), written once.
 template <class T>
-void dual_quaternion_product_rows(Row8<T> a, Row8<T> b, Row8<T> out, std::size_t first, std::size_t last) {
+void dual_quaternion_product_rows(Row8<const T> a, Row8<const T> b, Row8<T> out, std::size_t first, std::size_t last) {
   const T* __restrict aw = a.rw; const T* __restrict ax = a.rx; const T* __restrict ay = a.ry; const T* __restrict az = a.rz;
   const T* __restrict cw = a.dw; const T* __restrict cx = a.dx; const T* __restrict cy = a.dy; const T* __restrict cz = a.dz;
   const T* __restrict bw = b.rw; const T* __restrict bx = b.rx; const T* __restrict by = b.ry; const T* __restrict bz = b.rz;
@@ -97,15 +150,11 @@ void dual_quaternion_product_rows(Row8<T> a, Row8<T> b, Row8<T> out, std::size_t
 #pragma GCC ivdep  // GCC 12 does not vectorize this loop from the restrict copies alone
 #endif
   for (std::size_t i = first; i < last; ++i) {
-    // real = a_r b_r; dual = a_r b_d + a_d b_r
-    ow[i] = aw[i] * bw[i] - ax[i] * bx[i] - ay[i] * by[i] - az[i] * bz[i];
-    ox[i] = aw[i] * bx[i] + ax[i] * bw[i] + ay[i] * bz[i] - az[i] * by[i];
-    oy[i] = aw[i] * by[i] - ax[i] * bz[i] + ay[i] * bw[i] + az[i] * bx[i];
-    oz[i] = aw[i] * bz[i] + ax[i] * by[i] - ay[i] * bx[i] + az[i] * bw[i];
-    pw[i] = (aw[i] * ew[i] - ax[i] * ex[i] - ay[i] * ey[i] - az[i] * ez[i]) + (cw[i] * bw[i] - cx[i] * bx[i] - cy[i] * by[i] - cz[i] * bz[i]);
-    px[i] = (aw[i] * ex[i] + ax[i] * ew[i] + ay[i] * ez[i] - az[i] * ey[i]) + (cw[i] * bx[i] + cx[i] * bw[i] + cy[i] * bz[i] - cz[i] * by[i]);
-    py[i] = (aw[i] * ey[i] - ax[i] * ez[i] + ay[i] * ew[i] + az[i] * ex[i]) + (cw[i] * by[i] - cx[i] * bz[i] + cy[i] * bw[i] + cz[i] * bx[i]);
-    pz[i] = (aw[i] * ez[i] + ax[i] * ey[i] - ay[i] * ex[i] + az[i] * ew[i]) + (cw[i] * bz[i] + cx[i] * by[i] - cy[i] * bx[i] + cz[i] * bw[i]);
+    const DualQuaternion<T> p = dual_product(DualQuaternion<T>{aw[i], ax[i], ay[i], az[i], cw[i], cx[i], cy[i], cz[i]},
+                                             DualQuaternion<T>{bw[i], bx[i], by[i], bz[i], ew[i], ex[i], ey[i], ez[i]},
+                                             [](const Quaternion<T>& l, const Quaternion<T>& r) { return hamilton(l, r); });
+    ow[i] = p.real.w, ox[i] = p.real.x, oy[i] = p.real.y, oz[i] = p.real.z;
+    pw[i] = p.dual.w, px[i] = p.dual.x, py[i] = p.dual.y, pz[i] = p.dual.z;
   }
 }
 }  // namespace detail
@@ -115,7 +164,7 @@ void dual_quaternion_product_rows(Row8<T> a, Row8<T> b, Row8<T> out, std::size_t
 template <class T>
 struct ForwardKinematicsJob {
   std::span<const int> parents;
-  DualQuaternionSoA<T> local;
+  DualQuaternionSoA<const T> local;
   DualQuaternionSoA<T> model;
   std::size_t first_pose = 0;
   std::size_t pose_count = 0;
@@ -126,44 +175,43 @@ struct ForwardKinematicsJob {
       if (parents[j] >= static_cast<int>(j)) return Error{"joint " + std::to_string(j) + ": parent does not come before it"};
     if (local.stride != model.stride) return Error{"local and model strides differ"};
     if (first_pose + pose_count > local.stride) return Error{"pose range exceeds the stride"};
-    for (const auto* s : {&local, &model})
-      for (auto span : {s->rw, s->rx, s->ry, s->rz, s->dw, s->dx, s->dy, s->dz})
-        if (span.size() < joints * s->stride) return Error{"a component array is shorter than joints × stride"};
+    for (auto span : local.components())
+      if (span.size() < joints * local.stride) return Error{"a component array is shorter than joints × stride"};
+    for (auto span : model.components())
+      if (span.size() < joints * model.stride) return Error{"a component array is shorter than joints × stride"};
+    for (auto out : model.components()) {
+      for (auto in : local.components())
+        if (overlaps(in, out)) return Error{"a model component array overlaps a local one"};
+      for (auto other : model.components())
+        if (other.data() != out.data() && overlaps(other, out)) return Error{"two model component arrays overlap"};
+    }
     return {};
   }
 
-  /// Runs on the calling thread. Call validate() first. (Processing the poses in cache-sized
-  /// blocks was measured and did not help here.)
-  void run() const { run_range(first_pose, first_pose + pose_count); }
+  /// Runs on the calling thread. Precondition: validate() succeeds (checked; a job that does not
+  /// validate is reported to the precondition handler and does nothing). (Processing the poses in
+  /// cache-sized blocks was measured and did not help here.)
+  void run() const {
+    DQ_PRECONDITION(validate().ok(), "ForwardKinematicsJob::run on a job that does not validate");
+    run_range(first_pose, first_pose + pose_count);
+  }
 
  private:
   void run_range(std::size_t b, std::size_t e) const {
     const std::size_t s = local.stride;
+    const auto in = local.components();
+    const auto out = model.components();
     for (std::size_t j = 0; j < parents.size(); ++j) {
       const std::size_t row = j * s;
       const int p = parents[j];
       if (p < 0) {
-        for (auto [src, dst] : component_pairs())
-          std::copy(src.begin() + static_cast<std::ptrdiff_t>(row + b), src.begin() + static_cast<std::ptrdiff_t>(row + e),
-                    dst.begin() + static_cast<std::ptrdiff_t>(row + b));
+        for (std::size_t c = 0; c < 8; ++c) std::copy(in[c].data() + row + b, in[c].data() + row + e, out[c].data() + row + b);
         continue;
       }
       const std::size_t prow = static_cast<std::size_t>(p) * s;
-      auto at = [](std::span<T> c, std::size_t offset) { return c.data() + offset; };
-      detail::dual_quaternion_product_rows<T>(
-          {at(model.rw, prow), at(model.rx, prow), at(model.ry, prow), at(model.rz, prow), at(model.dw, prow), at(model.dx, prow),
-           at(model.dy, prow), at(model.dz, prow)},
-          {at(local.rw, row), at(local.rx, row), at(local.ry, row), at(local.rz, row), at(local.dw, row), at(local.dx, row),
-           at(local.dy, row), at(local.dz, row)},
-          {at(model.rw, row), at(model.rx, row), at(model.ry, row), at(model.rz, row), at(model.dw, row), at(model.dx, row),
-           at(model.dy, row), at(model.dz, row)},
-          b, e);
+      detail::dual_quaternion_product_rows<T>(detail::row_of<const T>(out, prow), detail::row_of<const T>(in, row),
+                                              detail::row_of<T>(out, row), b, e);
     }
-  }
-
-  std::array<std::pair<std::span<T>, std::span<T>>, 8> component_pairs() const {
-    return {{{local.rw, model.rw}, {local.rx, model.rx}, {local.ry, model.ry}, {local.rz, model.rz},
-             {local.dw, model.dw}, {local.dx, model.dx}, {local.dy, model.dy}, {local.dz, model.dz}}};
   }
 };
 

@@ -42,13 +42,19 @@ Mat3<T> rotation_block(const Mat<T, R, 4>& m) {
   return r;
 }
 
-/// The unit dual quaternion of a rigid 3x4 or 4x4 matrix (the bottom row of a 4x4 is ignored).
-/// The rotation block should be orthonormal; see orthonormalize_polar for drifted input.
+/// The unit dual quaternion of a rigid 3x4 or 4x4 matrix (the bottom row of a 4x4 is not used,
+/// but a NaN or ∞ there makes the result NaN). The rotation block should be orthonormal; see
+/// orthonormalize_polar for drifted input.
 template <class T, int R>
 DualQuaternion<T> from_matrix(const Mat<T, R, 4>& m) {
   static_assert(R == 3 || R == 4);
-  return DualQuaternion<T>::from_rotation_translation(Quaternion<T>::from_matrix(rotation_block(m)),
-                                                      {m(0, 3), m(1, 3), m(2, 3)});
+  const DualQuaternion<T> q = DualQuaternion<T>::from_rotation_translation(Quaternion<T>::from_matrix(rotation_block(m)),
+                                                                           {m(0, 3), m(1, 3), m(2, 3)});
+  if constexpr (R == 4) {
+    const T z = nan_if_not_finite(m(3, 0) + m(3, 1) + m(3, 2) + m(3, 3));
+    return {q.real + Quaternion<T>(z, z, z, z), q.dual};
+  }
+  return q;
 }
 
 /// Gram–Schmidt on the columns (x kept, y made orthogonal to x, z = x × y): cheap, but biased

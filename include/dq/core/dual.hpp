@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ostream>
+#include <type_traits>
 
 #include "dq/core/scalar.hpp"
 
@@ -118,14 +119,14 @@ Dual<T> log1p(const Dual<T>& x) {
 }
 /// x^p for a constant exponent p.
 template <class T>
-Dual<T> pow(const Dual<T>& x, const T& p) {
+Dual<T> pow(const Dual<T>& x, const std::type_identity_t<T>& p) {
   using std::pow;
   if (p == T(0)) return {T(1), T(0)};
   return {pow(x.real, p), x.dual * p * pow(x.real, p - T(1))};
 }
 /// s^y for a constant base s > 0.
 template <class T>
-Dual<T> pow(const T& s, const Dual<T>& y) {
+Dual<T> pow(const std::type_identity_t<T>& s, const Dual<T>& y) {
   using std::log;
   using std::pow;
   const T v = pow(s, y.real);

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <ostream>
 
 #include "dq/core/dual.hpp"
@@ -38,7 +39,19 @@ struct Plane {
 };
 
 template <class T>
+struct DualQuaternion;
+namespace detail {
+/// The dual quaternion product, written once for the scalar type and the batch kernels:
+/// q_r = a_r b_r, q_d = a_r b_d + a_d b_r, with `mul` the Hamilton product to use.
+template <class T, class Mul>
+constexpr DualQuaternion<T> dual_product(const DualQuaternion<T>& a, const DualQuaternion<T>& b, Mul mul) noexcept {
+  return {mul(a.real, b.real), mul(a.real, b.dual) + mul(a.dual, b.real)};
+}
+}  // namespace detail
+
+template <class T>
 struct DualQuaternion {
+  using scalar_type = T;
   Quaternion<T> real{};                          ///< q_r: the rotation
   Quaternion<T> dual{T(0), T(0), T(0), T(0)};    ///< q_d = ½ t q_r for a rigid transform
 
@@ -90,7 +103,7 @@ struct DualQuaternion {
   }
   /// The product: q_r = a_r b_r, q_d = a_r b_d + a_d b_r (three Hamilton products).
   friend constexpr DualQuaternion operator*(const DualQuaternion& a, const DualQuaternion& b) noexcept {
-    return {a.real * b.real, a.real * b.dual + a.dual * b.real};
+    return detail::dual_product(a, b, [](const Quaternion<T>& l, const Quaternion<T>& r) { return l * r; });
   }
   constexpr DualQuaternion& operator*=(const DualQuaternion& o) noexcept { return *this = *this * o; }
   constexpr DualQuaternion& operator+=(const DualQuaternion& o) noexcept { return *this = *this + o; }
@@ -119,8 +132,20 @@ struct DualQuaternion {
   /// division by |q_r|, as in GLM or the Kenwright listing, leaves q_r · q_d ≠ 0). A zero real
   /// part gives the identity (documented choice); non-finite input gives non-finite output.
   DualQuaternion normalized() const {
+    using std::abs;
     const T n = real.norm();
-    if (n == T(0)) return identity();
+    if (n == T(0)) {  // no rotation to normalize: the identity, keeping a NaN of the dual part
+      const T z = nan_if_not_finite(dot(dual, dual));
+      return {Quaternion<T>(T(1) + z, z, z, z), Quaternion<T>(z, z, z, z)};
+    }
+    const real_t<T> nv = value_of(n);
+    if (nv < std::numeric_limits<real_t<T>>::min() || nv > std::numeric_limits<real_t<T>>::max() / 4) {
+      // A denormal (or huge) real part: dividing by its norm loses its bits. Scale the whole
+      // dual quaternion by a power of two first (exact) so that the real part is of order one.
+      using std::ilogb;
+      const int e = -ilogb(nv);
+      return DualQuaternion(detail::scale_by_power_of_two(real, e), detail::scale_by_power_of_two(dual, e)).normalized();
+    }
     const Quaternion<T> r = real / n;
     const Quaternion<T> d = dual / n;
     const T k = dot(r, d);
@@ -128,7 +153,6 @@ struct DualQuaternion {
     // When most of d lay along r, that projection cancelled and left rounding noise that is itself
     // along r. Then rebuild the dual part from the translation instead: with v = vec(d r*),
     // (0, v) r is orthogonal to r by construction, to the rounding of its own size.
-    using std::abs;
     const T largest = std::max({abs(p.w), abs(p.x), abs(p.y), abs(p.z)});
     if (abs(k) > largest) return {r, Quaternion<T>::pure((d * r.conjugate()).vec()) * r};
     return {r, p};
@@ -142,8 +166,10 @@ struct DualQuaternion {
     return abs(rr - T(1)) <= tolerance && abs(dot(real, dual)) <= tolerance * (T(1) + dual.norm());
   }
 
-  /// The inverse of any dual quaternion with q_r ≠ 0: q_r⁻¹ − ε q_r⁻¹ q_d q_r⁻¹.
-  constexpr DualQuaternion inverse() const noexcept {
+  /// The inverse of any dual quaternion with q_r ≠ 0: q_r⁻¹ − ε q_r⁻¹ q_d q_r⁻¹. With q_r = 0
+  /// there is no inverse: the real part is (+∞, 0, 0, 0) (see Quaternion::inverse) and the dual
+  /// part is not finite.
+  DualQuaternion inverse() const {
     const Quaternion<T> ri = real.inverse();
     return {ri, -(ri * dual * ri)};
   }
@@ -183,10 +209,24 @@ struct DualQuaternion {
   }
 };
 
+namespace detail {
+template <class X>
+inline constexpr bool is_dual_quaternion_v = false;
+template <class T>
+inline constexpr bool is_dual_quaternion_v<DualQuaternion<T>> = true;
+/// The result of a call whose precondition failed with a handler that returned: NaN, never a
+/// plausible transform.
+template <class T>
+DualQuaternion<T> nan_dual_quaternion() {
+  const T n = T(std::numeric_limits<real_t<T>>::quiet_NaN());
+  return {n, n, n, n, n, n, n, n};
+}
+}  // namespace detail
+
 /// Approximate comparison of all eight components; with SignPolicy::same_rotation, Q and −Q
 /// (the same rigid transform) compare equal.
 template <class T>
-bool approx_equal(const DualQuaternion<T>& a, const DualQuaternion<T>& b, const T& tolerance,
+bool approx_equal(const DualQuaternion<T>& a, const DualQuaternion<T>& b, const std::type_identity_t<T>& tolerance,
                   SignPolicy policy = SignPolicy::exact) {
   auto close = [&](const DualQuaternion<T>& u) {
     return approx_equal(a.real, u.real, tolerance) && approx_equal(a.dual, u.dual, tolerance);

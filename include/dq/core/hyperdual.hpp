@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <ostream>
+#include <type_traits>
 
 #include "dq/core/scalar.hpp"
 
@@ -132,7 +133,7 @@ HyperDual<T> log1p(const HyperDual<T>& x) {
   return x.chain(log1p(x.real), inv, -inv * inv);
 }
 template <class T>
-HyperDual<T> pow(const HyperDual<T>& x, const T& p) {
+HyperDual<T> pow(const HyperDual<T>& x, const std::type_identity_t<T>& p) {
   using std::pow;
   if (p == T(0)) return HyperDual<T>(T(1));
   return x.chain(pow(x.real, p), p * pow(x.real, p - T(1)), p * (p - T(1)) * pow(x.real, p - T(2)));
@@ -143,7 +144,7 @@ HyperDual<T> pow(const HyperDual<T>& x, const HyperDual<T>& y) {
   return exp(y * log(x));
 }
 template <class T>
-HyperDual<T> pow(const T& s, const HyperDual<T>& y) {
+HyperDual<T> pow(const std::type_identity_t<T>& s, const HyperDual<T>& y) {
   using std::log;
   return exp(y * log(s));
 }

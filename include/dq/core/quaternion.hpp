@@ -11,12 +11,10 @@
 #include <limits>
 #include <ostream>
 #include <type_traits>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include "dq/core/matrix.hpp"
 #include "dq/core/scalar.hpp"
+#include "dq/core/series.hpp"
 #include "dq/core/vec3.hpp"
 
 namespace dq {
@@ -50,25 +48,19 @@ SinCos<T> sin_cos(const T& a) {
   }
   return {sin(a), cos(a)};
 }
-/// sin(x)/x, accurate for small |x| (Taylor series below the fourth root of epsilon).
-template <class T>
-T sinc(const T& x) {
-  using std::abs;
-  using std::sin;
-  if (abs(value_of(x)) < fourth_root_epsilon<T>) return T(1) - x * x / T(6);
-  return sin(x) / x;
-}
 }  // namespace detail
 
 template <class T>
 struct Quaternion;
-#if defined(__SSE2__)
 namespace detail {
-/// (w, x, y, z) in SSE lanes 0..3: r = a_w b + a_x (−b_x, b_w, −b_z, b_y) + a_y (−b_y, b_z, b_w, −b_x)
-///                                      + a_z (−b_z, −b_y, b_x, b_w).
-inline Quaternion<float> hamilton_sse(const Quaternion<float>& a, const Quaternion<float>& b) noexcept;
+template <class T>
+constexpr Quaternion<T> hamilton(const Quaternion<T>& a, const Quaternion<T>& b) noexcept;
+Quaternion<float> hamilton_lanes(const Quaternion<float>& a, const Quaternion<float>& b) noexcept;
+template <class T>
+Quaternion<T> exp_pure(const Vec3<T>& v);
+template <class T>
+Vec3<T> log_unit_vector(const Quaternion<T>& q);
 }  // namespace detail
-#endif
 
 template <class T>
 struct AxisAngle {
@@ -78,6 +70,7 @@ struct AxisAngle {
 
 template <class T>
 struct Quaternion {
+  using scalar_type = T;
   T w{1}, x{}, y{}, z{};
 
   constexpr Quaternion() noexcept = default;  ///< the identity
@@ -112,17 +105,16 @@ struct Quaternion {
   friend constexpr Quaternion operator/(const Quaternion& a, const T& s) noexcept {
     return {a.w / s, a.x / s, a.y / s, a.z / s};
   }
-  /// The Hamilton product: 16 multiplications, 12 additions. For float on x86-64 it runs as
-  /// four-wide SSE2 (the baseline of every x86-64 CPU), with the same operations in the same order
-  /// per component, so the result is bit-identical to the scalar formula.
+  /// The Hamilton product: 16 multiplications, 12 additions (detail::hamilton, the one formula).
+  /// For float it runs four components at a time (detail::hamilton_lanes), with the same
+  /// operations in the same order per component, so the result is bit-identical.
   friend constexpr Quaternion operator*(const Quaternion& a, const Quaternion& b) noexcept {
-#if defined(__SSE2__)
+#if DQKIT_VECTOR_EXTENSIONS
     if constexpr (std::is_same_v<T, float>) {
-      if (!std::is_constant_evaluated()) return detail::hamilton_sse(a, b);
+      if (!std::is_constant_evaluated()) return detail::hamilton_lanes(a, b);
     }
 #endif
-    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-            a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+    return detail::hamilton(a, b);
   }
   constexpr Quaternion& operator+=(const Quaternion& o) noexcept { return *this = *this + o; }
   constexpr Quaternion& operator-=(const Quaternion& o) noexcept { return *this = *this - o; }
@@ -160,8 +152,13 @@ struct Quaternion {
   }
   void normalize() { *this = normalized(); }
 
-  /// q⁻¹ = q*/|q|²; the zero quaternion has no inverse (result non-finite).
-  constexpr Quaternion inverse() const noexcept { return conjugate() / squared_norm(); }
+  /// q⁻¹ = q*/|q|², without overflow or underflow in |q|² (so (1e-200, 0, 0, 0) inverts to
+  /// 1e200). The zero quaternion has no inverse: it gives (+∞, 0, 0, 0), as 1/0 = +∞ for reals.
+  Quaternion inverse() const {
+    const T n = norm();
+    if (n == T(0)) return {T(std::numeric_limits<real_t<T>>::infinity()), T(0), T(0), T(0)};
+    return conjugate() / n / n;
+  }
 
   /// The representative of ±q with w ≥ 0; where w = 0, the first non-zero of x, y, z positive.
   constexpr Quaternion canonical() const noexcept {
@@ -174,38 +171,34 @@ struct Quaternion {
   /// Angles that are multiples of π (0, π, 2π, ...) give exact components.
   static Quaternion from_axis_angle(const Vec3<T>& axis, const T& angle) {
     const T n = norm_of(axis);
-    if (n == T(0)) return identity();
+    if (n == T(0)) return {T(1) + nan_if_not_finite(angle), T(0), T(0), T(0)};  // a NaN angle stays NaN
     const auto sc = detail::sin_cos(angle * T(0.5));
-    return {sc.cos, axis * (sc.sin / n)};
+    return {sc.cos, (axis / n) * sc.sin};  // not sin/n: that overflows for a denormal axis
   }
   static Quaternion from_axis_angle(const AxisAngle<T>& aa) { return from_axis_angle(aa.axis, aa.angle); }
 
   /// Axis and angle of the canonical representative: angle in [0, π], computed with atan2 so
-  /// that it is accurate near 0 and π (acos is not). The identity gives axis (1, 0, 0), angle 0.
+  /// that it is accurate near 0 and π (acos is not). The identity gives axis (1, 0, 0), angle 0;
+  /// there the angle's derivative (Dual scalars) is the one-sided one, 2|v'|/w, as for |x| at 0.
   /// Assumes a unit quaternion (a non-unit one gives the axis-angle of its direction).
   AxisAngle<T> to_axis_angle() const {
     using std::atan2;
     const Quaternion c = canonical();
-    const T s = norm_of(c.vec());
-    if (s == T(0)) return {};
-    return {c.vec() / s, T(2) * atan2(s, c.w)};
+    const T s = dq::norm(c.vec());  // hypot: no underflow, and the one-sided derivative at 0
+    const T angle = T(2) * atan2(s, c.w);
+    if (!(s > T(0))) {  // the identity, or NaN (which stays NaN in the axis too)
+      const T nan_or_zero = nan_if_not_finite(c.w + s);
+      return {Vec3<T>{T(1) + nan_or_zero, nan_or_zero, nan_or_zero}, angle};
+    }
+    return {c.vec() / s, angle};
   }
 
-  /// From a rotation vector (axis × angle, radians); accurate near zero.
-  static Quaternion from_rotation_vector(const Vec3<T>& v) {
-    using std::cos;
-    const T theta = norm_of(v);
-    const T half = theta * T(0.5);
-    return {cos(half), v * (detail::sinc(half) * T(0.5))};
-  }
-  /// The rotation vector of the canonical representative, |v| ∈ [0, π].
-  Vec3<T> to_rotation_vector() const {
-    using std::atan2;
-    const Quaternion c = canonical();
-    const T s = norm_of(c.vec());
-    if (s == T(0)) return {};
-    return c.vec() * (T(2) * atan2(s, c.w) / s);
-  }
+  /// From a rotation vector (axis × angle, radians): exp of the pure quaternion v/2. Smooth
+  /// through v = 0 (values and derivatives), exact for rotations so small their square underflows.
+  static Quaternion from_rotation_vector(const Vec3<T>& v) { return detail::exp_pure(v * T(0.5)); }
+  /// The rotation vector of the canonical representative, |v| ∈ [0, π]: 2 log(q) for unit q.
+  /// Smooth through the identity (values and derivatives).
+  Vec3<T> to_rotation_vector() const { return detail::log_unit_vector(canonical()) * T(2); }
 
   /// Rotates v (q unit): v + 2w (u × v) + 2 u × (u × v): 18 multiplications, 12 additions.
   constexpr Vec3<T> rotate(const Vec3<T>& v) const noexcept {
@@ -295,67 +288,90 @@ struct Quaternion {
   }
 };
 
-#if defined(__SSE2__)
 namespace detail {
-inline Quaternion<float> hamilton_sse(const Quaternion<float>& a, const Quaternion<float>& b) noexcept {
-  __m128 va, vb;
-  std::memcpy(&va, &a, sizeof va);
-  std::memcpy(&vb, &b, sizeof vb);
-  const __m128 aw = _mm_shuffle_ps(va, va, _MM_SHUFFLE(0, 0, 0, 0));
-  const __m128 ax = _mm_shuffle_ps(va, va, _MM_SHUFFLE(1, 1, 1, 1));
-  const __m128 ay = _mm_shuffle_ps(va, va, _MM_SHUFFLE(2, 2, 2, 2));
-  const __m128 az = _mm_shuffle_ps(va, va, _MM_SHUFFLE(3, 3, 3, 3));
-  // Sign masks flip lanes by xor (exact, like the scalar subtraction).
-  const __m128 s1 = _mm_castsi128_ps(_mm_set_epi32(0, INT32_MIN, 0, INT32_MIN));          // (−, +, −, +)
-  const __m128 s2 = _mm_castsi128_ps(_mm_set_epi32(INT32_MIN, 0, 0, INT32_MIN));          // (−, +, +, −)
-  const __m128 s3 = _mm_castsi128_ps(_mm_set_epi32(0, 0, INT32_MIN, INT32_MIN));          // (−, −, +, +)
-  const __m128 b1 = _mm_xor_ps(_mm_shuffle_ps(vb, vb, _MM_SHUFFLE(2, 3, 0, 1)), s1);  // (bx, bw, bz, by)
-  const __m128 b2 = _mm_xor_ps(_mm_shuffle_ps(vb, vb, _MM_SHUFFLE(1, 0, 3, 2)), s2);  // (by, bz, bw, bx)
-  const __m128 b3 = _mm_xor_ps(_mm_shuffle_ps(vb, vb, _MM_SHUFFLE(0, 1, 2, 3)), s3);  // (bz, by, bx, bw)
-  const __m128 r = _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(aw, vb), _mm_mul_ps(ax, b1)), _mm_mul_ps(ay, b2)), _mm_mul_ps(az, b3));
-  Quaternion<float> out;
-  std::memcpy(static_cast<void*>(&out), &r, sizeof r);  // trivially copyable, four floats
-  return out;
+/// The Hamilton product, written once: the scalar types, the four-lane float product below and
+/// the batch kernels (forward_kinematics.hpp) all compute exactly this, term by term.
+template <class T>
+constexpr Quaternion<T> hamilton(const Quaternion<T>& a, const Quaternion<T>& b) noexcept {
+  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+}
+
+#if DQKIT_VECTOR_EXTENSIONS
+/// detail::hamilton with the four components in the lanes of one vector: r = a_w b
+/// + a_x (−b_x, b_w, −b_z, b_y) + a_y (−b_y, b_z, b_w, −b_x) + a_z (−b_z, −b_y, b_x, b_w), summed
+/// in the scalar formula's order (x − y and x + (−y) round alike, so each lane is bit-identical).
+/// Written with the compiler's generic vector extensions, not with intrinsics of one instruction
+/// set: the same source serves every target a translation unit is compiled for (docs/design.md).
+inline Quaternion<float> hamilton_lanes(const Quaternion<float>& a, const Quaternion<float>& b) noexcept {
+  using f4 = float __attribute__((vector_size(16)));
+  const f4 vb{b.w, b.x, b.y, b.z};
+  const f4 b1 = __builtin_shufflevector(vb, vb, 1, 0, 3, 2) * f4{-1, 1, -1, 1};
+  const f4 b2 = __builtin_shufflevector(vb, vb, 2, 3, 0, 1) * f4{-1, 1, 1, -1};
+  const f4 b3 = __builtin_shufflevector(vb, vb, 3, 2, 1, 0) * f4{-1, -1, 1, 1};
+  const f4 r = ((a.w * vb + a.x * b1) + a.y * b2) + a.z * b3;
+  return {r[0], r[1], r[2], r[3]};
+}
+#endif
+}  // namespace detail
+
+namespace detail {
+/// q · 2^e, exactly (barring overflow), for every scalar (derivative parts scaled alike); in
+/// steps, since 2^e alone is not representable for the exponents that rescale a denormal.
+template <class T>
+Quaternion<T> scale_by_power_of_two(Quaternion<T> q, int e) {
+  using R = real_t<T>;
+  using std::ldexp;
+  constexpr int step = std::numeric_limits<R>::max_exponent - 1;
+  for (; e > step; e -= step) q = q * T(ldexp(R(1), step));
+  for (; e < -step; e += step) q = q * T(ldexp(R(1), -step));
+  return q * T(ldexp(R(1), e));
 }
 }  // namespace detail
-#endif
 
 template <class T>
 constexpr T dot(const Quaternion<T>& a, const Quaternion<T>& b) noexcept {
   return a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
 }
 
-/// exp(q) = e^w (cos|v|, v̂ sin|v|), for any quaternion.
+namespace detail {
+/// exp of the pure quaternion (0, v): (cos|v|, v sinc|v|), smooth through v = 0 (cos and sinc as
+/// series in |v|², so derivatives of every order are right there).
+template <class T>
+Quaternion<T> exp_pure(const Vec3<T>& v) {
+  const T theta2 = dot(v, v);
+  auto theta = [&] { return norm(v); };
+  return {cos_of_squared(theta2, theta), v * sinc_of_squared(theta2, theta)};
+}
+/// The vector part of log q for a unit q: v atan2(|v|, w)/|v|, smooth through v = 0 for w > 0;
+/// a negative real q (a rotation by 2π) gives π along x, one of the valid choices.
+template <class T>
+Vec3<T> log_unit_vector(const Quaternion<T>& q) {
+  const Vec3<T> v = q.vec();
+  if (value_of(q.w) < 0 && !(norm(v) > T(0))) return {pi_v<T> + v.x, v.y, v.z};  // NaN stays NaN
+  return v * atan2_over_sine(dot(v, v), q.w, [&] { return norm(v); });
+}
+}  // namespace detail
+
+/// exp(q) = e^w (cos|v|, v̂ sin|v|), for any quaternion; smooth through v = 0.
 template <class T>
 Quaternion<T> exp(const Quaternion<T>& q) {
-  using std::cos;
   using std::exp;
-  using std::sqrt;
-  const T theta = sqrt(dot(q.vec(), q.vec()));
-  const T ew = exp(q.w);
-  return {ew * cos(theta), q.vec() * (ew * detail::sinc(theta))};
+  return detail::exp_pure(q.vec()) * exp(q.w);
 }
 
 /// log(q) = (ln|q|, v̂ atan2(|v|, w)), the principal logarithm; log(0) has w = −∞. For a
 /// negative real q (a rotation by 2π) the vector part is π along x, one of the valid choices.
+/// Smooth through v = 0 for w > 0 (values and derivatives).
 template <class T>
 Quaternion<T> log(const Quaternion<T>& q) {
-  using std::atan2;
   using std::log;
-  using std::sqrt;
-  const T s = sqrt(dot(q.vec(), q.vec()));
-  const T n = q.norm();
-  const T angle = atan2(s, q.w);
-  if (s == T(0)) {
-    if (q.w < T(0)) return {log(n), pi_v<T> * T(1), T(0), T(0)};
-    return {log(n), T(0), T(0), T(0)};
-  }
-  return {log(n), q.vec() * (angle / s)};
+  return {log(q.norm()), detail::log_unit_vector(q)};
 }
 
 /// q^t = exp(t log q); for unit q this is the rotation by t times q's angle about q's axis.
 template <class T>
-Quaternion<T> pow(const Quaternion<T>& q, const T& t) {
+Quaternion<T> pow(const Quaternion<T>& q, const std::type_identity_t<T>& t) {
   return exp(log(q) * t);
 }
 
@@ -369,6 +385,13 @@ T angular_distance(const Quaternion<T>& a, const Quaternion<T>& b) {
   return T(2) * atan2(sqrt(dot(d.vec(), d.vec())), abs(d.w));
 }
 
+namespace detail {
+template <class X>
+inline constexpr bool is_quaternion_v = false;
+template <class T>
+inline constexpr bool is_quaternion_v<Quaternion<T>> = true;
+}  // namespace detail
+
 /// Whether q and −q count as equal in a comparison.
 enum class SignPolicy {
   exact,          ///< compare the four components as they are (algebraic equality)
@@ -377,7 +400,7 @@ enum class SignPolicy {
 
 /// Approximate comparison with an explicit tolerance on every component (max-norm).
 template <class T>
-bool approx_equal(const Quaternion<T>& a, const Quaternion<T>& b, const T& tolerance,
+bool approx_equal(const Quaternion<T>& a, const Quaternion<T>& b, const std::type_identity_t<T>& tolerance,
                   SignPolicy policy = SignPolicy::exact) {
   using std::abs;
   auto close = [&](const Quaternion<T>& u) {

@@ -11,6 +11,16 @@
 #include <numbers>
 #include <type_traits>
 
+/// 1 where the compiler has generic vector types (`vector_size`) and __builtin_shufflevector
+/// (GCC 12+, Clang): SIMD written once for every instruction set, with no intrinsics of one.
+#if !defined(DQKIT_VECTOR_EXTENSIONS)
+#if defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12)
+#define DQKIT_VECTOR_EXTENSIONS 1
+#else
+#define DQKIT_VECTOR_EXTENSIONS 0
+#endif
+#endif
+
 namespace dq {
 
 template <class T>
@@ -28,6 +38,13 @@ using real_t = typename scalar_traits<T>::real_type;
 template <class T>
 constexpr real_t<T> value_of(const T& x) noexcept {
   return scalar_traits<T>::value(x);
+}
+
+/// 0 for a finite x, NaN for NaN or ±∞: added to a result that would otherwise drop x, it keeps
+/// the NaN policy (NaN in, NaN out) on paths that return a constant.
+template <class T>
+constexpr T nan_if_not_finite(const T& x) noexcept {
+  return x * T(0);
 }
 
 /// Machine epsilon of the underlying real type.

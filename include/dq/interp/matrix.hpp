@@ -6,10 +6,13 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 #include <optional>
+#include <ranges>
 #include <span>
 
 #include "dq/core/matrix.hpp"
+#include "dq/util/assert.hpp"
 
 namespace dq {
 
@@ -106,9 +109,10 @@ std::optional<Mat<T, N, N>> matrix_log(const Mat<T, N, N>& a) {
 }
 
 /// Alexa's weighted combination ⊕ᵢ (wᵢ ⊙ Aᵢ) = e^{Σ wᵢ log Aᵢ}; nullopt if a logarithm does not
-/// exist (a rotation by exactly π).
+/// exist (a rotation by exactly π). Precondition: one weight per matrix.
 template <class T>
 std::optional<Mat4<T>> alexa_blend(std::span<const Mat4<T>> matrices, std::span<const T> weights) {
+  DQ_PRECONDITION(weights.size() == matrices.size(), "alexa_blend needs one weight per matrix", std::nullopt);
   Mat4<T> sum{};
   for (std::size_t i = 0; i < matrices.size(); ++i) {
     const auto l = matrix_log(matrices[i]);
@@ -118,9 +122,16 @@ std::optional<Mat4<T>> alexa_blend(std::span<const Mat4<T>> matrices, std::span<
   return matrix_exp(sum);
 }
 
+/// alexa_blend over any contiguous containers, the scalar type taken from the weights.
+template <std::ranges::contiguous_range Ms, std::ranges::contiguous_range Ws>
+auto alexa_blend(const Ms& matrices, const Ws& weights) {
+  using T = std::ranges::range_value_t<Ws>;
+  return alexa_blend(std::span<const Mat4<T>>(matrices), std::span<const T>(weights));
+}
+
 /// Alexa interpolation e^{(1−t) log A + t log B}.
 template <class T>
-std::optional<Mat4<T>> alexa_interpolate(const Mat4<T>& a, const Mat4<T>& b, const T& t) {
+std::optional<Mat4<T>> alexa_interpolate(const Mat4<T>& a, const Mat4<T>& b, const std::type_identity_t<T>& t) {
   const std::array<Mat4<T>, 2> m{a, b};
   const std::array<T, 2> w{T(1) - t, t};
   return alexa_blend<T>(m, w);

@@ -3,10 +3,13 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
+#include <ranges>
 #include <span>
 
 #include "dq/core/exp_log.hpp"
 #include "dq/interp/rotation.hpp"
+#include "dq/util/assert.hpp"
 
 namespace dq {
 
@@ -17,7 +20,7 @@ namespace dq {
 /// straight line, exactly. When the rotations are exactly π apart both ways are equally short:
 /// the sign of b as given decides, and `report->ambiguous` is set. Never NaN for finite input.
 template <class T>
-DualQuaternion<T> sclerp(const DualQuaternion<T>& a, const DualQuaternion<T>& b, const T& t,
+DualQuaternion<T> sclerp(const DualQuaternion<T>& a, const DualQuaternion<T>& b, const std::type_identity_t<T>& t,
                          Path path = Path::shortest, InterpolationReport* report = nullptr) {
   DualQuaternion<T> d = a.conjugate() * b;  // a⁻¹ b for unit a
   d = detail::align_sign(d, d.real.w, path, report);
@@ -35,11 +38,14 @@ enum class BlendPivot {
 
 /// Dual quaternion linear blending (Kavan et al. 2008): Σ wᵢ sᵢ Qᵢ normalized, with sᵢ = ±1
 /// aligning each real part with the pivot's. Weights need not sum to 1 (only their ratios
-/// matter) and may be zero. The result is always a unit dual quaternion; an empty input, or one
-/// whose weighted sum has a zero real part, gives the identity.
+/// matter) and may be zero. The result is always a unit dual quaternion, returned with the sign
+/// of the first input (q_r · first ≥ 0), so that it is continuous in the weights even where the
+/// pivot changes; an empty input, or one whose weighted sum has a zero real part, gives the
+/// identity. Precondition: one weight per input.
 template <class T>
 DualQuaternion<T> dlb(std::span<const DualQuaternion<T>> qs, std::span<const T> weights,
                       BlendPivot pivot = BlendPivot::largest_weight) {
+  DQ_PRECONDITION(weights.size() == qs.size(), "dlb needs one weight per dual quaternion", detail::nan_dual_quaternion<T>());
   if (qs.empty()) return DualQuaternion<T>::identity();
   std::size_t p = 0;
   if (pivot == BlendPivot::largest_weight)
@@ -50,7 +56,18 @@ DualQuaternion<T> dlb(std::span<const DualQuaternion<T>> qs, std::span<const T> 
     const T w = dot(qs[p].real, qs[i].real) < T(0) ? -weights[i] : weights[i];
     sum = sum + qs[i] * w;
   }
-  return sum.normalized();
+  const DualQuaternion<T> blend = sum.normalized();
+  return dot(blend.real, qs[0].real) < T(0) ? -blend : blend;
+}
+
+/// dlb of two keys, (1 − t) a + t b with b's sign aligned to a's, normalized: the interpolation
+/// that skinning and animation runtimes use between keys. Continuous in t, including extrapolation;
+/// the result has a's sign.
+template <class T>
+DualQuaternion<T> dlb(const DualQuaternion<T>& a, const DualQuaternion<T>& b, const std::type_identity_t<T>& t) {
+  const T wb = dot(a.real, b.real) < T(0) ? -t : t;
+  const DualQuaternion<T> blend = (a * (T(1) - t) + b * wb).normalized();
+  return dot(blend.real, a.real) < T(0) ? -blend : blend;
 }
 
 /// The result of dib: the blend and how the iteration went.
@@ -68,9 +85,11 @@ struct IterativeBlend {
 /// sclerp between them. Weights must be non-negative with a positive sum.
 template <class T>
 IterativeBlend<T> dib(std::span<const DualQuaternion<T>> qs, std::span<const T> weights, int max_iterations = 20,
-                      const T& tolerance = T(64) * T(epsilon<T>())) {
+                      const std::type_identity_t<T>& tolerance = T(64) * T(epsilon<T>())) {
   using std::sqrt;
   IterativeBlend<T> out;
+  DQ_PRECONDITION(weights.size() == qs.size(), "dib needs one weight per dual quaternion",
+                  IterativeBlend<T>{detail::nan_dual_quaternion<T>(), 0, false, T(0)});
   out.value = dlb(qs, weights);
   T total = T(0);
   for (const T& w : weights) total += w;
@@ -97,10 +116,25 @@ IterativeBlend<T> dib(std::span<const DualQuaternion<T>> qs, std::span<const T> 
   return out;
 }
 
+/// dlb and dib over any contiguous containers (std::vector, std::array, ...), the scalar type
+/// taken from the elements: `dlb(poses, weights)` without naming T.
+template <std::ranges::contiguous_range Qs, std::ranges::contiguous_range Ws>
+  requires detail::is_dual_quaternion_v<std::ranges::range_value_t<Qs>>
+auto dlb(const Qs& qs, const Ws& weights, BlendPivot pivot = BlendPivot::largest_weight) {
+  using T = typename std::ranges::range_value_t<Qs>::scalar_type;
+  return dlb(std::span<const DualQuaternion<T>>(qs), std::span<const T>(weights), pivot);
+}
+template <std::ranges::contiguous_range Qs, std::ranges::contiguous_range Ws>
+  requires detail::is_dual_quaternion_v<std::ranges::range_value_t<Qs>>
+auto dib(const Qs& qs, const Ws& weights, int max_iterations = 20) {
+  using T = typename std::ranges::range_value_t<Qs>::scalar_type;
+  return dib(std::span<const DualQuaternion<T>>(qs), std::span<const T>(weights), max_iterations);
+}
+
 /// Decoupled interpolation: slerp for the rotation, a straight line for the translation (what
 /// most engines do). The path differs from sclerp whenever the rotation changes.
 template <class T>
-DualQuaternion<T> decoupled_interpolate(const DualQuaternion<T>& a, const DualQuaternion<T>& b, const T& t,
+DualQuaternion<T> decoupled_interpolate(const DualQuaternion<T>& a, const DualQuaternion<T>& b, const std::type_identity_t<T>& t,
                                         Path path = Path::shortest) {
   const Vec3<T> ta = a.translation(), tb = b.translation();
   return DualQuaternion<T>::from_rotation_translation(slerp(a.real, b.real, t, path), ta + (tb - ta) * t);

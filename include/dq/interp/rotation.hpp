@@ -7,9 +7,13 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
+#include <ranges>
 #include <span>
+#include <type_traits>
 
 #include "dq/core/quaternion.hpp"
+#include "dq/util/assert.hpp"
 
 namespace dq {
 
@@ -40,35 +44,21 @@ Q align_sign(const Q& b, const T& d, Path path, InterpolationReport* report) {
 /// given is followed and `report->ambiguous` is set; the longest path between equal rotations
 /// (a full turn) turns about x. The endpoints are reproduced to an ulp or two.
 ///
-/// Written as a · exp(t · log(a* b)) for unit quaternions: with r = a* b = (cos Ω, n sin Ω), the
-/// result is a · (cos tΩ, v · sin(tΩ)/|v|), and sin(tΩ)/|v| = t · sinc(tΩ) · Ω/|v| has no
-/// division by a vanishing sine (Ω/|v| → 1/w as the endpoints meet).
+/// Written as a · exp(t · log(a* b)) with the series of core/series.hpp, not with the textbook
+/// weights sin((1−t)Ω)/sin Ω: no division by a vanishing sine, so none of the failure cases the
+/// Arends thesis found (equal endpoints, sin Ω ≈ 0, Ω ≈ π), and derivatives right everywhere.
 template <class T>
-Quaternion<T> slerp(const Quaternion<T>& a, const Quaternion<T>& b, const T& t, Path path = Path::shortest,
-                    InterpolationReport* report = nullptr) {
-  using std::acos;
-  using std::asin;
-  using std::cos;
-  using std::sqrt;
+Quaternion<T> slerp(const Quaternion<T>& a, const Quaternion<T>& b, const std::type_identity_t<T>& t,
+                    Path path = Path::shortest, InterpolationReport* report = nullptr) {
   const Quaternion<T> qa = a.normalized();
   const Quaternion<T> r = (qa.conjugate() * detail::align_sign(b, dot(qa, b), path, report)).normalized();
-  const Vec3<T> v = r.vec();
-  const T s = sqrt(dot(v, v));
-  if (s == T(0) && r.w < T(0)) {  // a full turn between equal rotations: about x, by choice
-    const T h = pi_v<T> * t;
-    return qa * Quaternion<T>(cos(h), detail::sinc(h) * h, T(0), T(0));
-  }
-  // Ω = atan2(s, w), from whichever of asin/acos is well conditioned (cheaper than atan2).
-  using std::abs;
-  const T omega = abs(r.w) >= s ? (r.w < T(0) ? T(pi_v<T>) - asin(s) : asin(s)) : acos(r.w);
-  const T omega_over_s = s > T(0) ? omega / s : T(1) / r.w;
-  const T h = omega * t;
-  return qa * Quaternion<T>(cos(h), v * (t * detail::sinc(h) * omega_over_s));
+  return qa * detail::exp_pure(detail::log_unit_vector(r) * t);
 }
 
 /// Normalized linear interpolation: cheaper than slerp, same path, non-constant speed.
 template <class T>
-Quaternion<T> nlerp(const Quaternion<T>& a, const Quaternion<T>& b, const T& t, Path path = Path::shortest) {
+Quaternion<T> nlerp(const Quaternion<T>& a, const Quaternion<T>& b, const std::type_identity_t<T>& t,
+                    Path path = Path::shortest) {
   const Quaternion<T> qb = detail::align_sign(b, dot(a, b), path, nullptr);
   return (a * (T(1) - t) + qb * t).normalized();
 }
@@ -88,7 +78,7 @@ Quaternion<T> squad_control_point(const Quaternion<T>& prev, const Quaternion<T>
 /// C¹-continuous across keys when the control points come from the neighbours.
 template <class T>
 Quaternion<T> squad(const Quaternion<T>& q1, const Quaternion<T>& s1, const Quaternion<T>& s2, const Quaternion<T>& q2,
-                    const T& t) {
+                    const std::type_identity_t<T>& t) {
   const Quaternion<T> q2a = dot(q1, q2) < T(0) ? -q2 : q2;
   const Quaternion<T> s2a = dot(s1, s2) < T(0) ? -s2 : s2;
   return slerp(slerp(q1, q2a, t), slerp(s1, s2a, t), T(2) * t * (T(1) - t), Path::shortest);
@@ -145,6 +135,9 @@ std::array<T, 4> dominant_eigenvector(std::array<std::array<T, 4>, 4> m) {
 /// no input, the identity.
 template <class T>
 Quaternion<T> average(std::span<const Quaternion<T>> rotations, std::span<const T> weights = {}) {
+  DQ_PRECONDITION(weights.empty() || weights.size() == rotations.size(),
+                  "average needs no weights or one weight per rotation",
+                  Quaternion<T>(T(std::numeric_limits<real_t<T>>::quiet_NaN()), T(0), T(0), T(0)));
   std::array<std::array<T, 4>, 4> m{};
   for (std::size_t i = 0; i < rotations.size(); ++i) {
     const T w = weights.empty() ? T(1) : weights[i];
@@ -156,6 +149,20 @@ Quaternion<T> average(std::span<const Quaternion<T>> rotations, std::span<const 
   if (rotations.empty()) return Quaternion<T>::identity();
   const auto e = detail::dominant_eigenvector(m);
   return Quaternion<T>(e[0], e[1], e[2], e[3]).normalized().canonical();
+}
+
+/// average over any contiguous containers, the scalar type taken from the elements.
+template <std::ranges::contiguous_range Qs>
+  requires detail::is_quaternion_v<std::ranges::range_value_t<Qs>>
+auto average(const Qs& rotations) {
+  using T = typename std::ranges::range_value_t<Qs>::scalar_type;
+  return average(std::span<const Quaternion<T>>(rotations));
+}
+template <std::ranges::contiguous_range Qs, std::ranges::contiguous_range Ws>
+  requires detail::is_quaternion_v<std::ranges::range_value_t<Qs>>
+auto average(const Qs& rotations, const Ws& weights) {
+  using T = typename std::ranges::range_value_t<Qs>::scalar_type;
+  return average(std::span<const Quaternion<T>>(rotations), std::span<const T>(weights));
 }
 
 }  // namespace dq
