@@ -283,6 +283,61 @@ TYPED_TEST(Generic, DualQuaternionScrewCalculus) {
   }
 }
 
+// ---- conversions and the remaining blends ------------------------------------------------------------
+
+TYPED_TEST(Generic, ConversionsAndBlends) {
+  using S = TypeParam;
+  for (int which = 0; which < 3; ++which) {
+    const std::string where = kWhere[which];
+    const LD x0 = start(which);
+    auto q_of = [which](auto x) {
+      using X = decltype(x);
+      return rotation<X>(which) * exp(Quaternion<X>::pure(vec<X>(0.5, 0.25, -0.75) * x));
+    };
+    auto dq_of = [which](auto x) {
+      using X = decltype(x);
+      const DualQuaternion<X> xi{Quaternion<X>::pure(vec<X>(0.5, 0.25, -0.75)), Quaternion<X>::pure(vec<X>(1.25, -0.5, 0.75))};
+      return transform<X>(which) * exp(xi * x);
+    };
+    check<S>("matrix round trip " + where, x0, [&](auto x) {
+      const auto m = q_of(x).to_matrix();
+      const auto q = std::remove_cvref_t<decltype(q_of(x))>::from_matrix(m);
+      const auto r = q_of(x).canonical();
+      return std::array{m(0, 1), m(2, 0), q.w - r.w, q.x - r.x, q.y - r.y, q.z - r.z};
+    });
+    if (which == 0)  // Euler angles are smooth away from gimbal lock (and wrap at ±π)
+      for (const EulerOrder order : {EulerOrder::ZYX, EulerOrder::XYZ, EulerOrder::ZXZ})
+        check<S>("to_euler " + std::string(to_string(order)), x0, [&](auto x) {
+          const auto e = to_euler(q_of(x), order, EulerFrame::intrinsic).angles;
+          return std::array{e.a, e.b, e.c};
+        }, 4);
+    if (which != 1)  // like the axis-angle, VRML's axis is undefined at the identity
+    check<S>("vrml round trip " + where, x0, [&](auto x) {
+      using X = decltype(x);
+      const auto v = to_vrml(dq_of(x), vec<X>(0.5, 0.25, 0));
+      const auto back = from_vrml(v);
+      const auto p = back.transform_point(vec<X>(1, 2, 3)) - dq_of(x).transform_point(vec<X>(1, 2, 3));
+      return std::array{p.x, p.y, p.z, v.translation.x};
+    }, 4);
+    check<S>("sqrt " + where, x0, [&](auto x) { return parts(sqrt(dq_of(x))); }, which == 2 ? 64 : 4);
+    check<S>("nlerp " + where, x0, [&](auto x) {
+      using X = decltype(x);
+      return parts(nlerp(rotation<X>(0), q_of(x), c<X>(0.375)));
+    });
+    check<S>("dib " + where, x0, [&](auto x) {
+      using X = decltype(x);
+      const std::array<DualQuaternion<X>, 3> qs{transform<X>(0), dq_of(x), transform<X>(1)};
+      const std::array<X, 3> w{c<X>(0.25), c<X>(0.5), c<X>(0.25)};
+      return parts(dib(qs, w, 60).value);
+    }, 16);
+    check<S>("average " + where, x0, [&](auto x) {
+      using X = decltype(x);
+      const std::array<Quaternion<X>, 3> qs{rotation<X>(0), q_of(x), rotation<X>(0) * q_of(x)};
+      return parts(average(qs));
+    }, 16);
+  }
+}
+
 // ---- analytic values at the limits ------------------------------------------------------------------
 
 TEST(GenericAnalytic, LogOfExpHasDerivativeXiAtTheIdentity) {

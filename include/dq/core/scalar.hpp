@@ -28,6 +28,7 @@ struct scalar_traits {
   static_assert(std::is_floating_point_v<T>, "specialise dq::scalar_traits for this scalar");
   using real_type = T;  // the built-in type at the bottom of a nested scalar
   static constexpr real_type value(const T& x) noexcept { return x; }
+  static constexpr real_type largest_part(const T& x) noexcept { return x < T(0) ? -x : x; }
 };
 
 template <class T>
@@ -38,6 +39,13 @@ using real_t = typename scalar_traits<T>::real_type;
 template <class T>
 constexpr real_t<T> value_of(const T& x) noexcept {
   return scalar_traits<T>::value(x);
+}
+
+/// The largest magnitude among all parts of x (value and derivative parts): iterations over
+/// derivative scalars converge when this, not only the value, is small.
+template <class T>
+constexpr real_t<T> largest_part(const T& x) noexcept {
+  return scalar_traits<T>::largest_part(x);
 }
 
 /// 0 for a finite x, NaN for NaN or ±∞: added to a result that would otherwise drop x, it keeps

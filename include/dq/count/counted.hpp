@@ -72,6 +72,7 @@ template <class T>
 struct scalar_traits<Counted<T>> {
   using real_type = real_t<T>;
   static constexpr real_type value(const Counted<T>& x) noexcept { return value_of(x.v); }
+  static constexpr real_type largest_part(const Counted<T>& x) noexcept { return dq::largest_part(x.v); }
 };
 
 namespace detail {

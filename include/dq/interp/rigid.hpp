@@ -2,6 +2,7 @@
 // iterative blending (DIB, the dual-quaternion mean), and decoupled interpolation.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <type_traits>
 #include <ranges>
@@ -108,7 +109,12 @@ IterativeBlend<T> dib(std::span<const DualQuaternion<T>> qs, std::span<const T> 
     out.residual = sqrt(dot(step.real, step.real) + dot(step.dual, step.dual));
     ++out.iterations;
     out.value = (out.value * exp(step)).normalized();
-    if (value_of(out.residual) <= value_of(tolerance)) {
+    // Converged when every part of the step is small, derivative parts included (they converge
+    // with the value, but need not be small when it is).
+    real_t<T> largest = 0;
+    for (const T* c : {&step.real.x, &step.real.y, &step.real.z, &step.dual.x, &step.dual.y, &step.dual.z})
+      largest = std::max(largest, largest_part(*c));
+    if (largest <= value_of(tolerance)) {
       out.converged = true;
       break;
     }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <utility>
 #include <cmath>
 #include <limits>
 #include <ranges>
@@ -127,6 +128,53 @@ std::array<T, 4> dominant_eigenvector(std::array<std::array<T, 4>, 4> m) {
     if (m[i][i] > m[best][best]) best = i;
   return {v[0][best], v[1][best], v[2][best], v[3][best]};
 }
+
+/// Newton steps on the eigenpair equations ((M − λI) v = 0, v·v = 1) from an eigenvector v of
+/// M's largest eigenvalue. Jacobi rotations do not carry derivative parts (Dual, HyperDual)
+/// through (their angles divide by vanishing off-diagonals); from the converged value, each
+/// Newton step makes one more order of derivatives exact (two steps: first and second). Skipped where the largest
+/// eigenvalue is not simple (the Jacobian is singular: the average is not unique there).
+template <class T>
+std::array<T, 4> refine_eigenvector(const std::array<std::array<T, 4>, 4>& m, std::array<T, 4> v) {
+  using std::abs;
+  for (int step = 0; step < 2; ++step) {
+    T lambda = T(0);
+    for (std::size_t r = 0; r < 4; ++r)
+      for (std::size_t k = 0; k < 4; ++k) lambda += v[r] * m[r][k] * v[k];
+    // J δ = −F with J = [[M − λI, −v], [−vᵀ, 0]], F = ((M − λI) v, (1 − v·v)/2).
+    std::array<std::array<T, 6>, 5> a{};
+    for (std::size_t r = 0; r < 4; ++r) {
+      T f = T(0);
+      for (std::size_t k = 0; k < 4; ++k) {
+        a[r][k] = m[r][k] - (r == k ? lambda : T(0));
+        f += a[r][k] * v[k];
+      }
+      a[r][4] = -v[r];
+      a[r][5] = -f;
+      a[4][r] = -v[r];
+    }
+    a[4][5] = -(T(1) - (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3])) / T(2);
+    for (std::size_t c = 0; c < 5; ++c) {  // Gaussian elimination, partial pivoting on values
+      std::size_t piv = c;
+      for (std::size_t r = c + 1; r < 5; ++r)
+        if (abs(value_of(a[r][c])) > abs(value_of(a[piv][c]))) piv = r;
+      if (!(abs(value_of(a[piv][c])) > real_t<T>(1e-6))) return v;  // not a simple eigenvalue
+      std::swap(a[c], a[piv]);
+      for (std::size_t r = c + 1; r < 5; ++r) {
+        const T factor = a[r][c] / a[c][c];
+        for (std::size_t k = c; k < 6; ++k) a[r][k] -= factor * a[c][k];
+      }
+    }
+    std::array<T, 5> delta{};
+    for (std::size_t r = 5; r-- > 0;) {
+      T sum = a[r][5];
+      for (std::size_t k = r + 1; k < 5; ++k) sum -= a[r][k] * delta[k];
+      delta[r] = sum / a[r][r];
+    }
+    for (std::size_t r = 0; r < 4; ++r) v[r] += delta[r];
+  }
+  return v;
+}
 }  // namespace detail
 
 /// The weighted average rotation (Markley et al.): the unit q maximizing Σ wᵢ (q · qᵢ)², i.e. the
@@ -147,7 +195,12 @@ Quaternion<T> average(std::span<const Quaternion<T>> rotations, std::span<const 
       for (std::size_t k = 0; k < 4; ++k) m[r][k] += w * c[r] * c[k];
   }
   if (rotations.empty()) return Quaternion<T>::identity();
-  const auto e = detail::dominant_eigenvector(m);
+  // Jacobi on the values, then Newton in T for the derivative parts (refine_eigenvector).
+  std::array<std::array<real_t<T>, 4>, 4> values{};
+  for (std::size_t r = 0; r < 4; ++r)
+    for (std::size_t k = 0; k < 4; ++k) values[r][k] = value_of(m[r][k]);
+  const auto ev = detail::dominant_eigenvector(values);
+  const auto e = detail::refine_eigenvector(m, std::array<T, 4>{T(ev[0]), T(ev[1]), T(ev[2]), T(ev[3])});
   return Quaternion<T>(e[0], e[1], e[2], e[3]).normalized().canonical();
 }
 
