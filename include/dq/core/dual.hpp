@@ -74,6 +74,7 @@ template <class T>
 struct scalar_traits<Dual<T>> {
   using real_type = real_t<T>;
   static constexpr real_type value(const Dual<T>& x) noexcept { return value_of(x.real); }
+  static constexpr bool has_derivatives = true;
   static constexpr real_type largest_part(const Dual<T>& x) noexcept {
     const real_type a = dq::largest_part(x.real), b = dq::largest_part(x.dual);
     return a < b ? b : a;

@@ -51,7 +51,7 @@ DualQuaternion<T> log(const DualQuaternion<T>& q) {
   const Vec3<T> vr = q.real.vec();
   const T s2 = dot(vr, vr);
   if (value_of(q.real.w) < 0 && !(norm(vr) > T(0))) return log(-q);
-  const Vec3<T> u = vr * detail::atan2_over_sine(s2, q.real.w, [&] { return norm(vr); });  // |u| = a, half angle
+  const Vec3<T> u = vr * detail::angle_over_sine(s2, q.real.w, [&] { return norm(vr); });  // |u| = a, half angle
   const T a2 = dot(u, u);
   auto a = [&] { return norm(u); };
   // Invert the dual part of exp: q_d = (−k sinc a, v sinc a + u k g(a)) with k = u·v.

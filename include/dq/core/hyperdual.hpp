@@ -86,6 +86,7 @@ template <class T>
 struct scalar_traits<HyperDual<T>> {
   using real_type = real_t<T>;
   static constexpr real_type value(const HyperDual<T>& x) noexcept { return value_of(x.real); }
+  static constexpr bool has_derivatives = true;
   static constexpr real_type largest_part(const HyperDual<T>& x) noexcept {
     real_type m = dq::largest_part(x.real);
     for (const T* p : {&x.e1, &x.e2, &x.e12}) m = m < dq::largest_part(*p) ? dq::largest_part(*p) : m;

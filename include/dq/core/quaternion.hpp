@@ -341,6 +341,13 @@ template <class T>
 Quaternion<T> exp_pure(const Vec3<T>& v) {
   const T theta2 = dot(v, v);
   auto theta = [&] { return norm(v); };
+  if constexpr (!has_derivatives_v<T>) {  // values: one angle, sin and cos of it (one sincos)
+    using std::cos;
+    using std::sin;
+    if (theta2 < square_root_epsilon<real_t<T>>) return {T(1) - theta2 / T(2), v * (T(1) - theta2 / T(6))};
+    const T a = angle_from_squared(theta2, theta);
+    return {cos(a), v * (sin(a) / a)};
+  }
   return {cos_of_squared(theta2, theta), v * sinc_of_squared(theta2, theta)};
 }
 /// The vector part of log q for a unit q: v atan2(|v|, w)/|v|, smooth through v = 0 for w > 0;
@@ -349,7 +356,7 @@ template <class T>
 Vec3<T> log_unit_vector(const Quaternion<T>& q) {
   const Vec3<T> v = q.vec();
   if (value_of(q.w) < 0 && !(norm(v) > T(0))) return {pi_v<T> + v.x, v.y, v.z};  // NaN stays NaN
-  return v * atan2_over_sine(dot(v, v), q.w, [&] { return norm(v); });
+  return v * angle_over_sine(dot(v, v), q.w, [&] { return norm(v); });
 }
 }  // namespace detail
 
@@ -366,7 +373,9 @@ Quaternion<T> exp(const Quaternion<T>& q) {
 template <class T>
 Quaternion<T> log(const Quaternion<T>& q) {
   using std::log;
-  return {log(q.norm()), detail::log_unit_vector(q)};
+  const T n = q.norm();
+  if (n == T(0)) return {log(n), T(0), T(0), T(0)};  // log 0 = −∞, with no direction
+  return {log(n), detail::log_unit_vector(q / n)};
 }
 
 /// q^t = exp(t log q); for unit q this is the rotation by t times q's angle about q's axis.

@@ -29,6 +29,7 @@ struct scalar_traits {
   using real_type = T;  // the built-in type at the bottom of a nested scalar
   static constexpr real_type value(const T& x) noexcept { return x; }
   static constexpr real_type largest_part(const T& x) noexcept { return x < T(0) ? -x : x; }
+  static constexpr bool has_derivatives = false;  ///< carries derivative parts (Dual, HyperDual)
 };
 
 template <class T>
@@ -40,6 +41,11 @@ template <class T>
 constexpr real_t<T> value_of(const T& x) noexcept {
   return scalar_traits<T>::value(x);
 }
+
+/// Whether T carries derivative parts: generic code then takes the forms whose derivatives are
+/// right (series in θ², core/series.hpp), where plain values take the faster closed forms.
+template <class T>
+inline constexpr bool has_derivatives_v = scalar_traits<T>::has_derivatives;
 
 /// The largest magnitude among all parts of x (value and derivative parts): iterations over
 /// derivative scalars converge when this, not only the value, is small.

@@ -11,6 +11,10 @@
 // Each series is summed to the precision of its real type: the number of terms is chosen at
 // compile time so that the first omitted term, and its second derivative, are below epsilon
 // where the series is used. Beyond that, the closed forms take over where they no longer cancel.
+//
+// Plain values (float, double, long double) need no derivatives: for them cos and sinc take the
+// closed forms (faster than the long series), with two-term series only where θ⁴ is below ε, and
+// atan2(s, w)/s likewise; the result is as accurate either way.
 #pragma once
 
 #include <array>
@@ -75,7 +79,11 @@ template <class R>
 inline constexpr std::size_t sinc_derivative_terms =
     series_terms<R>(even_series_bound<R>, [](std::size_t k) { return R(2 * k + 2) * inverse_factorial<R>(2 * k + 3); });
 
-/// θ from θ² where θ² ≥ 1: √(θ²), or, where θ² overflowed, `fallback()` (a hypot-based norm).
+/// √ε: below it, two terms of a series in θ² are exact to the last bit.
+template <class R>
+inline constexpr R square_root_epsilon = constexpr_sqrt(std::numeric_limits<R>::epsilon());
+
+/// θ from θ²: √(θ²), or, where θ² overflowed, `fallback()` (a hypot-based norm).
 template <class T, class Fallback>
 T angle_from_squared(const T& x, Fallback fallback) {
   using std::sqrt;
@@ -91,8 +99,9 @@ T cos_of_squared(const T& x, Fallback fallback) {
   static constexpr auto c = series_coefficients<R, cos_terms<R>>([](std::size_t k) {
     return (k % 2 ? R(-1) : R(1)) * inverse_factorial<R>(2 * k);
   });
-  if (value_of(x) < even_series_bound<R>) return horner(x, c);
-  return cos(angle_from_squared(x, fallback));
+  if constexpr (has_derivatives_v<T>)
+    if (value_of(x) < even_series_bound<R>) return horner(x, c);
+  return cos(angle_from_squared(x, fallback));  // √0 = 0 and cos 0 = 1: exact at the limit too
 }
 
 /// sin θ / θ as a function of x = θ².
@@ -103,7 +112,11 @@ T sinc_of_squared(const T& x, Fallback fallback) {
   static constexpr auto c = series_coefficients<R, sinc_terms<R>>([](std::size_t k) {
     return (k % 2 ? R(-1) : R(1)) * inverse_factorial<R>(2 * k + 1);
   });
-  if (value_of(x) < even_series_bound<R>) return horner(x, c);
+  if constexpr (has_derivatives_v<T>) {
+    if (value_of(x) < even_series_bound<R>) return horner(x, c);
+  } else if (x < square_root_epsilon<R>) {
+    return T(1) - x / T(6);  // omitted x²/120 < ε/120
+  }
   const T theta = angle_from_squared(x, fallback);
   return sin(theta) / theta;
 }
@@ -132,23 +145,36 @@ T atan_over_argument_of_squared(const T& y) {
   return horner(y, c);
 }
 
-/// atan2(s, w)/s, with s = √(s²) ≥ 0, as a function of s² and w: the factor that turns the
-/// vector part of a unit quaternion into its logarithm. Near the identity (w > 0, s ≤ w/4) a
-/// series in s²/w², smooth through s = 0 with the right derivatives, and 1/w exactly when s²
-/// underflowed; elsewhere the closed form. s = 0 with w < 0 (a turn by 2π) has no finite value:
-/// callers handle it first. `norm` gives s without squaring (for s² outside the normal range).
+/// Ω/s with Ω = atan2(s, w), for a unit quaternion (w, v) with s = |v|: the factor that turns
+/// the vector part into its logarithm. Near the identity (w > 0, s ≤ w/4) a series in s²/w²,
+/// smooth through s = 0 with the right derivatives, and 1/w exactly when s² underflowed;
+/// elsewhere the closed form (for plain values, asin or acos, whichever is well conditioned: both
+/// cheaper than atan2). s = 0 with w < 0 (a turn by 2π) has no finite value: callers handle it
+/// first. `norm` gives s without squaring (for s² outside the normal range).
 template <class T, class Norm>
-T atan2_over_sine(const T& s2, const T& w, Norm norm) {
+T angle_over_sine(const T& s2, const T& w, Norm norm) {
   using R = real_t<T>;
-  using std::atan2;
   using std::sqrt;
   if (value_of(w) > R(0)) {
     const T y = s2 / (w * w);
-    if (value_of(y) < R(1) / 16) return atan_over_argument_of_squared(y) / w;
+    if constexpr (has_derivatives_v<T>) {
+      if (value_of(y) < R(1) / 16) return atan_over_argument_of_squared(y) / w;
+    } else if (y < square_root_epsilon<R>) {
+      return (T(1) - y / T(3)) / w;  // omitted y²/5 < ε/5
+    }
   }
   const R v = value_of(s2);
   const T s = v >= std::numeric_limits<R>::min() && v <= std::numeric_limits<R>::max() ? sqrt(s2) : norm();
-  return atan2(s, w) / s;
+  if constexpr (!has_derivatives_v<T>) {
+    using std::abs;
+    using std::acos;
+    using std::asin;
+    if (abs(w) >= s) return (w < T(0) ? pi_v<T> - asin(s) : asin(s)) / s;
+    return acos(w) / s;
+  } else {
+    using std::atan2;
+    return atan2(s, w) / s;
+  }
 }
 
 }  // namespace dq::detail

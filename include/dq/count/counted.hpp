@@ -73,6 +73,7 @@ struct scalar_traits<Counted<T>> {
   using real_type = real_t<T>;
   static constexpr real_type value(const Counted<T>& x) noexcept { return value_of(x.v); }
   static constexpr real_type largest_part(const Counted<T>& x) noexcept { return dq::largest_part(x.v); }
+  static constexpr bool has_derivatives = has_derivatives_v<T>;
 };
 
 namespace detail {
