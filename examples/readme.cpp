@@ -37,6 +37,7 @@ static int algebra_example() {
 }
 
 // ---- README: A character in a few lines ---------------------------------------------------------------
+#include <dq/anim/animation.hpp>
 #include <dq/anim/forward_kinematics.hpp>
 #include <dq/io/bvh.hpp>
 

@@ -28,9 +28,7 @@ echo "== ThreadSanitizer build: the tests that use threads"
 cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDQKIT_TSAN=ON -DDQKIT_BUILD_BENCHMARKS=OFF \
   -DDQKIT_BUILD_EXAMPLES=OFF >/dev/null
 cmake --build build/tsan -j "$jobs" --target test_threads test_skeleton
-# (Isolated imports fork; ThreadSanitizer does not support fork() in a multithreaded process, so
-# that test runs in the Release and ASan builds only.)
-run_ctest --test-dir build/tsan -R "Threads|ForwardKinematics" -E "IsolatedImports"
+run_ctest --test-dir build/tsan -R "Threads|ForwardKinematics"
 
 echo "== Fuzzing: every target for ${DQKIT_FUZZ_SECONDS:-45} s (libFuzzer, clang)"
 scripts/fuzz.sh "${DQKIT_FUZZ_SECONDS:-45}"

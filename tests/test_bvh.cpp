@@ -10,12 +10,13 @@
 
 #include "dq/anim/forward_kinematics.hpp"
 #include "dq/io/bvh.hpp"
+#include "models.hpp"
 #include "support.hpp"
 
 namespace {
 
 using namespace dq;
-const std::filesystem::path kModels = DQKIT_ASSIMP_MODELS;
+const std::filesystem::path kModels = dq::test::assimp_models();
 
 /// Independent forward kinematics: Eigen affine transforms built from the channel angles.
 std::vector<Eigen::Affine3d> eigen_fk(const BvhFile& bvh, std::size_t frame) {
@@ -47,6 +48,7 @@ std::vector<Eigen::Affine3d> eigen_fk(const BvhFile& bvh, std::size_t frame) {
 class CmuFiles : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(CmuFiles, ForwardKinematicsMatchesEigen) {
+  DQKIT_REQUIRE_MODELS();
   const Expected<BvhFile> bvh = read_bvh_file(kModels / "BVH" / GetParam());
   ASSERT_TRUE(bvh) << bvh.error().message;
   ASSERT_GT(bvh->frame_count, 10u);
@@ -72,6 +74,7 @@ TEST_P(CmuFiles, ForwardKinematicsMatchesEigen) {
 }
 
 TEST_P(CmuFiles, RoundTripIsExact) {
+  DQKIT_REQUIRE_MODELS();
   const Expected<BvhFile> a = read_bvh_file(kModels / "BVH" / GetParam());
   ASSERT_TRUE(a) << a.error().message;
   const std::string text = write_bvh(*a);
@@ -92,6 +95,7 @@ TEST_P(CmuFiles, RoundTripIsExact) {
 }
 
 TEST_P(CmuFiles, RotationOrderConversionKeepsEveryTransform) {
+  DQKIT_REQUIRE_MODELS();
   const Expected<BvhFile> a = read_bvh_file(kModels / "BVH" / GetParam());
   ASSERT_TRUE(a);
   for (EulerOrder order : {EulerOrder::ZXY, EulerOrder::XYZ, EulerOrder::YZX}) {
@@ -135,6 +139,7 @@ struct Malformed {
 };
 
 TEST(Bvh, MalformedInputIsRejectedWithTheRightLine) {
+  DQKIT_REQUIRE_MODELS();
   const std::string head = "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n}\n";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"", "x:1: expected 'HIERARCHY', found end of file"},
@@ -164,6 +169,7 @@ TEST(Bvh, MalformedInputIsRejectedWithTheRightLine) {
 }
 
 TEST(Bvh, ExtraFramesAreIgnoredWithAWarning) {
+  DQKIT_REQUIRE_MODELS();
   // Boxing_Toes.bvh declares 3069 frames and has 3070 frame lines.
   const Expected<BvhFile> b = read_bvh_file(kModels / "BVH" / "Boxing_Toes.bvh");
   ASSERT_TRUE(b) << b.error().message;

@@ -6,15 +6,17 @@
 #include <fstream>
 
 #include "dq/anim/forward_kinematics.hpp"
-#include "dq/io/motion.hpp"
+#include "dq/io/scene.hpp"
+#include "models.hpp"
 #include "support.hpp"
 
 namespace {
 
 using namespace dq;
-const std::filesystem::path kModels = DQKIT_ASSIMP_MODELS;
+const std::filesystem::path kModels = dq::test::assimp_models();
 
 TEST(Import, GltfSimpleSkin) {
+  DQKIT_REQUIRE_MODELS();
   const Expected<ImportedScene> s = import_scene(kModels / "glTF2/simple_skin/simple_skin.gltf");
   ASSERT_TRUE(s) << s.error().message;
   EXPECT_GE(s->skeleton.size(), 3u);
@@ -36,6 +38,7 @@ TEST(Import, GltfSimpleSkin) {
 }
 
 TEST(Import, DirectXFbxColladaIqmLoad) {
+  DQKIT_REQUIRE_MODELS();
   struct Case {
     const char* file;
     std::size_t min_joints;
@@ -56,6 +59,7 @@ TEST(Import, DirectXFbxColladaIqmLoad) {
 }
 
 TEST(Import, AssimpBvhAgreesWithDqkitsReader) {
+  DQKIT_REQUIRE_MODELS();
   // Two independent readers of 01_01.bvh: world positions of every joint present in both, at
   // frames that fall on the 120 Hz grid of the 30 Hz resampling (every 4th file frame).
   const Expected<Motion> ours = load_motion(kModels / "BVH/01_01.bvh");
@@ -82,6 +86,22 @@ TEST(Import, AssimpBvhAgreesWithDqkitsReader) {
   EXPECT_GE(compared, 3u * 30u);
 }
 
+TEST(Import, LoadMotionReadsBvhOnlyImportMotionEveryFormat) {
+  DQKIT_REQUIRE_MODELS();
+  const std::filesystem::path gltf = kModels / "glTF2/simple_skin/simple_skin.gltf", bvh = kModels / "BVH/01_03.bvh";
+  const Expected<Motion> not_bvh = load_motion(gltf);
+  ASSERT_FALSE(not_bvh);
+  EXPECT_EQ(not_bvh.error().message, gltf.string() + ": not a BVH file (other formats are read by dq::import_motion, in dqkit::import, built with Assimp)");
+  const Expected<Motion> imported = import_motion(gltf);
+  ASSERT_TRUE(imported) << imported.error().message;
+  EXPECT_EQ(imported->format, "gltf");
+  EXPECT_TRUE(imported->scene && !imported->bvh);
+  const Expected<Motion> a = load_motion(bvh), b = import_motion(bvh);  // BVH: dqkit's reader either way
+  ASSERT_TRUE(a && b);
+  EXPECT_TRUE(b->bvh && !b->scene);
+  EXPECT_EQ(a->animation.locals, b->animation.locals);
+}
+
 TEST(Import, ErrorsNameTheFile) {
   const Expected<ImportedScene> missing = import_scene("/nonexistent/model.gltf");
   ASSERT_FALSE(missing);
@@ -102,6 +122,7 @@ TEST(Import, ErrorsNameTheFile) {
 namespace {
 
 TEST(Import, IsolationTurnsImporterCrashesAndHangsIntoErrors) {
+  DQKIT_REQUIRE_MODELS();
   // An IQM header found by fuzzing that makes Assimp 5.2 dereference a wild pointer.
   const std::filesystem::path crasher = std::filesystem::path(DQKIT_SOURCE_DIR) / "fuzz/regressions/assimp_crashers/assimp_iqm_header_crash.iqm";
   const Expected<ImportedScene> s = import_scene(crasher);
@@ -118,6 +139,7 @@ TEST(Import, IsolationTurnsImporterCrashesAndHangsIntoErrors) {
 }
 
 TEST(Import, IsolatedAndInProcessResultsAreIdentical) {
+  DQKIT_REQUIRE_MODELS();
   ImportOptions in_process;
   in_process.isolate = false;
   for (const char* file : {"glTF2/simple_skin/simple_skin.gltf", "X/BCN_Epileptic.X"}) {

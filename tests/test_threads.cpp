@@ -9,6 +9,7 @@
 #include "dq/anim/biped.hpp"
 #include "dq/anim/forward_kinematics.hpp"
 #include "dq/io/bvh.hpp"
+#include "models.hpp"
 #include "support.hpp"
 #ifdef DQKIT_HAVE_IMPORT
 #include "dq/io/scene.hpp"
@@ -68,11 +69,12 @@ TEST(Threads, ConcurrentBvhParsing) {
 
 #ifdef DQKIT_HAVE_IMPORT
 TEST(Threads, IsolatedImportsFromSeveralThreads) {
+  DQKIT_REQUIRE_MODELS();
   std::vector<std::jthread> threads;
   std::vector<std::size_t> joints(4, 0);
   for (std::size_t t = 0; t < joints.size(); ++t)
     threads.emplace_back([&, t] {
-      const Expected<ImportedScene> s = import_scene(std::string(DQKIT_ASSIMP_MODELS) + "/glTF2/simple_skin/simple_skin.gltf");
+      const Expected<ImportedScene> s = import_scene(dq::test::assimp_models() / "glTF2/simple_skin/simple_skin.gltf");
       joints[t] = s ? s->skeleton.size() : 0;
     });
   threads.clear();

@@ -10,6 +10,9 @@
 #include "dq/anim/forward_kinematics.hpp"
 #include "dq/io/file.hpp"
 #include "dq/io/motion.hpp"
+#ifdef DQKIT_HAVE_IMPORT
+#include "dq/io/scene.hpp"
+#endif
 
 namespace dq::cli {
 
@@ -75,11 +78,16 @@ std::vector<std::size_t> parse_frame_list(const std::string& text, std::size_t c
 namespace {
 /// Loads a motion file with the common options and prints its warnings.
 Expected<Motion> load(const std::string& file, std::size_t animation, double import_timeout, double rate = 30) {
+#ifdef DQKIT_HAVE_IMPORT
   MotionOptions options;
   options.animation = animation;
   options.import_timeout = import_timeout;
   options.sample_rate = rate;
-  Expected<Motion> m = load_motion(file, options);
+  Expected<Motion> m = import_motion(file, options);
+#else
+  (void)animation, (void)import_timeout, (void)rate;  // for imported formats, which this build does not read
+  Expected<Motion> m = load_motion(file);
+#endif
   if (m) print_warnings(m->warnings);
   return m;
 }

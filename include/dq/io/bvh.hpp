@@ -10,13 +10,12 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "dq/anim/animation.hpp"
+#include "dq/anim/animation_data.hpp"
 #include "dq/anim/skeleton.hpp"
 #include "dq/convert/euler.hpp"
 #include "dq/util/expected.hpp"

@@ -1,23 +1,39 @@
-// A consumer of the installed package: compose two transforms and move a point.
+// A consumer of dqkit: the algebra (header-only), a skeleton (dqkit::anim), BVH (dqkit::io) and,
+// when built with DQKIT_CONSUMER_IMPORT, an isolated import of the file given as argument
+// (dqkit::import; the worker is looked up as an installed program would).
 #include <dq/dq.hpp>
-#ifndef DQKIT_CORE_ONLY
-#include <dq/anim/skeleton.hpp>
+#include <dq/io/bvh.hpp>
+#ifdef DQKIT_CONSUMER_IMPORT
+#include <dq/io/scene.hpp>
 #endif
 
 #include <cmath>
 #include <cstdio>
 
-int main() {
+int main(int argc, char** argv) {
   const auto turn = dq::DualQuaternion<double>::from_rotation(
       dq::Quaternion<double>::from_axis_angle({0, 0, 1}, std::numbers::pi / 2));
   const auto shift = dq::DualQuaternion<double>::from_translation({1, 0, 0});
   const dq::Vec3<double> p = (shift * turn).transform_point({1, 0, 0});
-  std::printf("%g %g %g\n", p.x, p.y, p.z);
-#ifndef DQKIT_CORE_ONLY  // the compiled part: a skeleton from the installed static library
+  if (!(std::abs(p.x - 1) < 1e-15 && std::abs(p.y - 1) < 1e-15)) return 1;
   dq::RawSkeleton raw;
   raw.add("root", -1);
   raw.add("child", 0, shift);
-  if (!dq::build_skeleton(raw)) return 1;
+  if (!dq::build_skeleton(raw)) return 2;
+  const auto bvh = dq::read_bvh("HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n"
+                                "End Site\n{\nOFFSET 0 1 0\n}\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n90 0 0\n");
+  if (!bvh || !dq::bvh_skeleton(*bvh)) return 3;
+#ifdef DQKIT_CONSUMER_IMPORT
+  if (argc > 1) {
+    const dq::Expected<dq::ImportedScene> scene = dq::import_scene(argv[1]);
+    if (!scene) {
+      std::printf("%s\n", scene.error().message.c_str());
+      return 4;
+    }
+    std::printf("imported %zu joints\n", scene->skeleton.size());
+  }
 #endif
-  return (std::abs(p.x - 1) < 1e-15 && std::abs(p.y - 1) < 1e-15) ? 0 : 1;
+  (void)argc, (void)argv;
+  std::printf("ok\n");
+  return 0;
 }

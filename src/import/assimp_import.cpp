@@ -2,23 +2,11 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstring>
-#include <functional>
-#include <mutex>
-#include <type_traits>
 #include <unordered_map>
 
-#include "dq/io/scene.hpp"
+#include "import_internal.hpp"
 
 namespace dq {
 
@@ -251,230 +239,9 @@ class SceneBuilder {
 constexpr unsigned kFlags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_LimitBoneWeights |
                             aiProcess_ValidateDataStructure;
 
-// ---- isolation: the scene crosses a pipe from the child process ----------------------------------
+}  // namespace
 
-class Writer {
- public:
-  template <class T>
-  void pod(const T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    out_.append(reinterpret_cast<const char*>(&v), sizeof v);
-  }
-  template <class T>
-  void vec(const std::vector<T>& v) {
-    pod<std::uint64_t>(v.size());
-    if (!v.empty()) out_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-  }
-  void str(const std::string& s) {
-    pod<std::uint64_t>(s.size());
-    out_ += s;
-  }
-  std::string take() { return std::move(out_); }
-
- private:
-  std::string out_;
-};
-
-class Reader {
- public:
-  explicit Reader(std::string_view data) : data_(data) {}
-  template <class T>
-  bool pod(T& v) {
-    if (data_.size() < sizeof v) return false;
-    std::memcpy(&v, data_.data(), sizeof v);
-    data_.remove_prefix(sizeof v);
-    return true;
-  }
-  template <class T>
-  bool vec(std::vector<T>& v) {
-    std::uint64_t n = 0;
-    if (!pod(n) || n > data_.size() / std::max<std::size_t>(sizeof(T), 1)) return false;
-    v.resize(n);
-    if (n) std::memcpy(v.data(), data_.data(), n * sizeof(T));
-    data_.remove_prefix(n * sizeof(T));
-    return true;
-  }
-  bool str(std::string& s) {
-    std::uint64_t n = 0;
-    if (!pod(n) || n > data_.size()) return false;
-    s.assign(data_.substr(0, n));
-    data_.remove_prefix(n);
-    return true;
-  }
-  bool done() const { return data_.empty(); }
-
- private:
-  std::string_view data_;
-};
-
-std::string serialize(const ImportedScene& s) {
-  Writer w;
-  w.pod<std::uint64_t>(s.skeleton.size());
-  for (std::size_t j = 0; j < s.skeleton.size(); ++j) {
-    w.str(s.skeleton.names()[j]);
-    w.pod(s.skeleton.parents()[j]);
-    w.pod(s.skeleton.rest_pose()[j]);
-    w.pod(s.skeleton.end_sites()[j]);
-  }
-  w.vec(s.joint_scale);
-  w.pod<std::uint64_t>(s.meshes.size());
-  for (const ImportedMesh& m : s.meshes) {
-    w.str(m.name);
-    w.vec(m.positions);
-    w.vec(m.normals);
-    w.vec(m.indices);
-    w.vec(m.influence_offsets);
-    w.vec(m.influences);
-    w.vec(m.bone_joints);
-    w.vec(m.inverse_bind);
-    w.pod(m.node_joint);
-  }
-  w.pod<std::uint64_t>(s.animations.size());
-  for (const ImportedAnimation& a : s.animations) {
-    w.str(a.name);
-    w.pod(a.animation.frame_time);
-    w.pod<std::uint64_t>(a.animation.frame_count);
-    w.pod<std::uint64_t>(a.animation.joint_count);
-    w.vec(a.animation.locals);
-  }
-  w.pod<std::uint64_t>(s.warnings.size());
-  for (const std::string& x : s.warnings) w.str(x);
-  return w.take();
-}
-
-Expected<ImportedScene> deserialize(std::string_view data, const std::string& source) {
-  Reader r(data);
-  ImportedScene s;
-  const Error broken{source + ": the isolated importer returned a damaged result"};
-  std::uint64_t n = 0;
-  if (!r.pod(n) || n > data.size()) return broken;
-  RawSkeleton raw;
-  for (std::uint64_t j = 0; j < n; ++j) {
-    RawSkeleton::Joint joint;
-    std::uint8_t end = 0;
-    if (!r.str(joint.name) || !r.pod(joint.parent) || !r.pod(joint.rest) || !r.pod(end)) return broken;
-    joint.is_end_site = end != 0;
-    raw.joints.push_back(std::move(joint));
-  }
-  Expected<Skeleton> skeleton = build_skeleton(raw);
-  if (!skeleton) return Error{source + ": " + skeleton.error().message};
-  s.skeleton = std::move(*skeleton);
-  if (!r.vec(s.joint_scale) || !r.pod(n) || n > data.size()) return broken;
-  s.meshes.resize(n);
-  for (ImportedMesh& m : s.meshes)
-    if (!r.str(m.name) || !r.vec(m.positions) || !r.vec(m.normals) || !r.vec(m.indices) || !r.vec(m.influence_offsets) ||
-        !r.vec(m.influences) || !r.vec(m.bone_joints) || !r.vec(m.inverse_bind) || !r.pod(m.node_joint))
-      return broken;
-  if (!r.pod(n) || n > data.size()) return broken;
-  s.animations.resize(n);
-  for (ImportedAnimation& a : s.animations) {
-    std::uint64_t frames = 0, joints = 0;
-    if (!r.str(a.name) || !r.pod(a.animation.frame_time) || !r.pod(frames) || !r.pod(joints) || !r.vec(a.animation.locals)) return broken;
-    a.animation.frame_count = frames;
-    a.animation.joint_count = joints;
-    if (a.animation.locals.size() != frames * joints) return broken;
-  }
-  if (!r.pod(n) || n > data.size()) return broken;
-  s.warnings.resize(n);
-  for (std::string& x : s.warnings)
-    if (!r.str(x)) return broken;
-  if (!r.done()) return broken;
-  return s;
-}
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitized = true;  // sanitizers reserve large address ranges: no RLIMIT_AS
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
-
-/// Runs `work` in a child process and returns its result; a crash, a hang past the timeout, or
-/// an exhausted memory limit in the child becomes an Error naming the file.
-Expected<ImportedScene> run_isolated(const std::function<Expected<ImportedScene>()>& work, const std::string& source,
-                                     const ImportOptions& options) {
-  // One fork at a time in this process: two importing threads forking at once would each leak
-  // its pipe into the other's child, and a child copied while a sibling thread held a lock of
-  // ours could block on it.
-  static std::mutex fork_mutex;
-  std::unique_lock lock(fork_mutex);
-  int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) return Error{source + ": cannot create a pipe: " + std::strerror(errno)};
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    ::close(fds[0]);
-    ::close(fds[1]);
-    return Error{source + ": cannot start the importer process: " + std::strerror(errno)};
-  }
-  if (pid == 0) {  // child: import, send the result, leave without running the parent's exit code
-    ::close(fds[0]);
-    if (const int null = ::open("/dev/null", O_WRONLY); null >= 0) ::dup2(null, 2);  // glibc's abort messages
-    // Keep only stdin/out/err and the result pipe (as fd 3): no descriptor of the parent's, such as
-    // another import's pipe, stays open in this child.
-    if (fds[1] != 3) {
-      ::dup2(fds[1], 3);
-      fds[1] = 3;
-    }
-    ::close_range(4, ~0U, 0);
-    if (!kSanitized && options.memory_limit_mb > 0) {
-      const rlim_t bytes = static_cast<rlim_t>(options.memory_limit_mb) << 20;
-      const rlimit limit{bytes, bytes};
-      ::setrlimit(RLIMIT_AS, &limit);
-    }
-    std::string payload;
-    try {
-      const Expected<ImportedScene> result = work();
-      payload = result ? "S" + serialize(*result) : "E" + result.error().message;
-    } catch (const std::exception& e) {
-      payload = "E" + source + ": the importer failed: " + e.what();
-    }
-    for (std::size_t done = 0; done < payload.size();) {
-      const ssize_t k = ::write(fds[1], payload.data() + done, payload.size() - done);
-      if (k < 0 && errno == EINTR) continue;
-      if (k <= 0) ::_exit(3);
-      done += static_cast<std::size_t>(k);
-    }
-    ::_exit(0);
-  }
-  ::close(fds[1]);
-  lock.unlock();
-  std::string payload;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout_seconds);
-  bool timed_out = false;
-  while (true) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
-    if (left <= 0) {
-      timed_out = true;
-      break;
-    }
-    pollfd p{fds[0], POLLIN, 0};
-    const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left, 1000)));
-    if (ready < 0 && errno == EINTR) continue;
-    if (ready <= 0) continue;
-    char buf[65536];
-    const ssize_t k = ::read(fds[0], buf, sizeof buf);
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0) break;  // EOF: the child is done (or died)
-    payload.append(buf, static_cast<std::size_t>(k));
-  }
-  ::close(fds[0]);
-  if (timed_out) ::kill(pid, SIGKILL);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (timed_out) return Error{source + ": the importer did not finish within " + std::to_string(options.timeout_seconds) + " s"};
-  if (WIFSIGNALED(status))
-    return Error{source + ": the importer (Assimp) crashed on this file (" + std::string(::strsignal(WTERMSIG(status))) + ")"};
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || payload.empty())
-    return Error{source + ": the importer failed on this file (out of memory?)"};
-  if (payload[0] == 'E') return Error{payload.substr(1)};
-  return deserialize(std::string_view(payload).substr(1), source);
-}
+namespace detail {
 
 Expected<ImportedScene> import_file_in_process(const std::filesystem::path& path, const ImportOptions& options) {
   Assimp::Importer importer;
@@ -490,18 +257,26 @@ Expected<ImportedScene> import_memory_in_process(std::span<const std::uint8_t> d
   return SceneBuilder(*scene, options, "<memory." + hint + ">").build();
 }
 
-}  // namespace
+}  // namespace detail
 
 Expected<ImportedScene> import_scene(const std::filesystem::path& path, const ImportOptions& options) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return Error{path.string() + ": no such file"};
-  if (!options.isolate) return import_file_in_process(path, options);
-  return run_isolated([&] { return import_file_in_process(path, options); }, path.string(), options);
+  const auto status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) return Error{path.string() + ": no such file"};
+  if (std::filesystem::is_directory(status)) return Error{path.string() + ": is a directory"};
+  if (!options.isolate) return detail::import_file_in_process(path, options);
+  return detail::run_isolated({.from_memory = false, .path_or_hint = path.string(), .sample_rate = options.sample_rate, .meshes = options.meshes},
+                              path.string(), options);
 }
 
 Expected<ImportedScene> import_scene_from_memory(std::span<const std::uint8_t> data, const std::string& hint, const ImportOptions& options) {
-  if (!options.isolate) return import_memory_in_process(data, hint, options);
-  return run_isolated([&] { return import_memory_in_process(data, hint, options); }, "<memory." + hint + ">", options);
+  if (!options.isolate) return detail::import_memory_in_process(data, hint, options);
+  return detail::run_isolated({.from_memory = true,
+                               .path_or_hint = hint,
+                               .data = std::vector<std::uint8_t>(data.begin(), data.end()),
+                               .sample_rate = options.sample_rate,
+                               .meshes = options.meshes},
+                              "<memory." + hint + ">", options);
 }
 
 }  // namespace dq

@@ -1,0 +1,29 @@
+#include <cctype>
+
+#include "dq/io/scene.hpp"
+
+namespace dq {
+
+Expected<Motion> import_motion(const std::filesystem::path& path, const MotionOptions& options) {
+  if (is_bvh_path(path)) return load_motion(path);
+  ImportOptions io;
+  io.sample_rate = options.sample_rate;
+  io.timeout_seconds = options.import_timeout;
+  Expected<ImportedScene> scene = import_scene(path, io);
+  if (!scene) return scene.error();
+  Motion m;
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  m.format = ext.empty() ? "unknown" : ext.substr(1);
+  m.skeleton = scene->skeleton;
+  m.animation_count = scene->animations.size();
+  if (options.animation >= m.animation_count && m.animation_count > 0)
+    return Error{path.string() + ": animation " + std::to_string(options.animation) + " requested, the file has " +
+                 std::to_string(m.animation_count)};
+  if (m.animation_count > 0) m.animation = scene->animations[options.animation].animation;
+  m.warnings = scene->warnings;
+  m.scene = std::move(*scene);
+  return m;
+}
+
+}  // namespace dq
