@@ -136,6 +136,22 @@ T sinc_derivative_over_angle_of_squared(const T& x, Fallback fallback) {
   return (theta * cos(theta) - sin(theta)) / (theta * theta * theta);
 }
 
+/// (1 − sinc θ)/θ² = (θ − sin θ)/θ³ as a function of x = θ² (the second coefficient of the
+/// left Jacobian of SO(3)); its closed form cancels near 0 (the numerator is ≈ θ³/6).
+template <class T, class Fallback>
+T one_minus_sinc_over_squared(const T& x, Fallback fallback) {
+  using R = real_t<T>;
+  using std::sin;
+  static constexpr std::size_t n =
+      series_terms<R>(even_series_bound<R>, [](std::size_t k) { return inverse_factorial<R>(2 * k + 3); });
+  static constexpr auto c = series_coefficients<R, n>([](std::size_t k) {
+    return (k % 2 ? R(-1) : R(1)) * inverse_factorial<R>(2 * k + 3);
+  });
+  if (value_of(x) < even_series_bound<R>) return horner(x, c);
+  const T theta = angle_from_squared(x, fallback);
+  return (theta - sin(theta)) / (theta * x);
+}
+
 /// atan(z)/z as a function of y = z² for y < 1/16 (slow-converging, so only used there).
 template <class T>
 T atan_over_argument_of_squared(const T& y) {

@@ -1,0 +1,457 @@
+#include "dq/ik/solver.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "dq/core/hyperdual.hpp"
+#include "dq/ik/jacobian.hpp"
+
+namespace dq {
+
+namespace {
+
+constexpr int kMaxLevels = 4;
+constexpr double kLevelScale = 1e-3;  // cost weight of each lower priority level relative to the one above
+
+bool is_position_like(TaskKind k) { return k == TaskKind::position || k == TaskKind::point_on_line; }
+
+/// The residual rows (target − current) of one task for an effector transform w, over any scalar.
+template <class X, class T>
+void task_residual(const IkTask& task, const X& w, T* r) {
+  using Ops = TransformOps<X>;
+  auto v = [](const Vec3<double>& a) { return Vec3<T>{T(a.x), T(a.y), T(a.z)}; };
+  const Vec3<T> x = Ops::apply(w, v(task.point));
+  auto put = [&](std::size_t at, const Vec3<T>& e) { r[at] = e.x, r[at + 1] = e.y, r[at + 2] = e.z; };
+  auto rotation_error = [&] {
+    const DualQuaternion<double>& t = task.target;
+    const Quaternion<T> qt(T(t.real.w), T(t.real.x), T(t.real.y), T(t.real.z));
+    return (qt * Ops::rotation_part(w).conjugate()).to_rotation_vector();
+  };
+  switch (task.kind) {
+    case TaskKind::position: put(0, v(task.target.translation()) - x); break;
+    case TaskKind::orientation: put(0, rotation_error()); break;
+    case TaskKind::pose:
+      put(0, v(task.target.translation()) - x);
+      put(3, rotation_error());
+      break;
+    case TaskKind::aim: {
+      const Vec3<T> d = v(task.location) - x;
+      put(0, d / norm(d) - Ops::rotate(w, v(task.axis)));
+      break;
+    }
+    case TaskKind::point_on_line: {
+      const Vec3<T> d = v(task.axis), e = v(task.location) - x;
+      put(0, e - d * dot(d, e));
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+template <class X>
+struct BasicIkSolver<X>::Workspace {
+  using Ops = TransformOps<X>;
+  std::size_t n = 0, joints = 0;
+  std::vector<X> world;
+  std::vector<Twist<double>> columns;
+  Eigen::MatrixXd jacobian, normal, projector, level_jacobian, scratch, row_normal, rows_by_parameters;
+  Eigen::VectorXd residual, weights, weighted, row_vector, gradient, step, level_step, rhs, q, trial, best, rest;
+  Eigen::LDLT<Eigen::MatrixXd> ldlt;
+  std::vector<Eigen::LLT<Eigen::MatrixXd>> llt_by_rows;  // one per system size 3k, so none reallocates
+  std::vector<std::size_t> row_of;  // first row of each task
+  std::vector<std::uint8_t> fixed;  // parameter pinned at a limit this iteration
+  std::vector<HyperDual<double>> qh;
+  std::vector<typename Ops::template rebind<HyperDual<double>>> world_h;
+  std::mt19937_64 rng;
+
+  Workspace(const KinematicModel& m, std::size_t max_rows)
+      : n(m.parameters()),
+        joints(m.skeleton().size()),
+        world(joints),
+        columns(n),
+        jacobian(max_rows, n),
+        normal(n, n),
+        projector(n, n),
+        level_jacobian(max_rows, n),
+        scratch(n, n),
+        row_normal(max_rows, max_rows),
+        rows_by_parameters(max_rows, n),
+        residual(max_rows),
+        weights(max_rows),
+        weighted(max_rows),
+        row_vector(max_rows),
+        gradient(n),
+        step(n),
+        level_step(n),
+        rhs(n),
+        q(n),
+        trial(n),
+        best(n),
+        rest(n),
+        ldlt(static_cast<Eigen::Index>(n)),
+        fixed(n),
+        qh(n),
+        world_h(joints) {
+    row_of.reserve(64);
+    for (std::size_t k = 0; k <= max_rows / 3; ++k) llt_by_rows.emplace_back(static_cast<Eigen::Index>(3 * k));
+  }
+};
+
+template <class X>
+BasicIkSolver<X>::BasicIkSolver(const KinematicModel& model, const IkOptions& options)
+    : model_(&model), options_(options), ws_(std::make_unique<Workspace>(model, options.max_rows)) {}
+template <class X>
+BasicIkSolver<X>::~BasicIkSolver() = default;
+template <class X>
+BasicIkSolver<X>::BasicIkSolver(BasicIkSolver&&) noexcept = default;
+template <class X>
+BasicIkSolver<X>& BasicIkSolver<X>::operator=(BasicIkSolver&&) noexcept = default;
+
+namespace {
+
+/// Everything one evaluation of the tasks at q gives.
+struct Evaluation {
+  double cost = 0;                          // Σ_levels scale^level Σ w |r|²
+  std::array<double, kMaxLevels> level{};   // Σ w |r|² of each priority level
+  double position_error = 0, orientation_error = 0;
+};
+
+/// Whether a is an improvement on b: lexicographic over the priority levels (a lower level may
+/// only gain where every level above it does not get worse beyond rounding).
+bool better(const Evaluation& a, const Evaluation& b) {
+  for (int l = 0; l < kMaxLevels; ++l) {
+    const double slack = 1e-12 * b.level[static_cast<std::size_t>(l)] + 1e-30;
+    if (a.level[static_cast<std::size_t>(l)] < b.level[static_cast<std::size_t>(l)] - slack) return true;
+    if (a.level[static_cast<std::size_t>(l)] > b.level[static_cast<std::size_t>(l)] + slack) return false;
+  }
+  return false;
+}
+
+template <class X, class W>
+Evaluation evaluate(const KinematicModel& model, std::span<const IkTask> tasks, W& ws, const Eigen::VectorXd& q,
+                    bool with_jacobian) {
+  using Ops = TransformOps<X>;
+  const std::span<const double> qs(q.data(), static_cast<std::size_t>(q.size()));
+  if (with_jacobian)
+    screw_jacobian<X, double>(model, qs, ws.world, ws.columns);
+  else
+    model_transforms<X, double>(model, qs, ws.world);
+  Evaluation e;
+  for (std::size_t t = 0; t < tasks.size(); ++t) {
+    const IkTask& task = tasks[t];
+    const std::size_t row = ws.row_of[t];
+    const X& w = ws.world[static_cast<std::size_t>(task.joint)];
+    task_residual<X, double>(task, w, ws.residual.data() + row);
+    const std::size_t rows = task_rows(task.kind);
+    double level = std::pow(kLevelScale, task.priority);
+    for (std::size_t k = 0; k < rows; ++k) {
+      const double rk = ws.residual[static_cast<Eigen::Index>(row + k)];
+      e.cost += level * task.weight * rk * rk;
+      e.level[static_cast<std::size_t>(task.priority)] += task.weight * rk * rk;
+      ws.weights[static_cast<Eigen::Index>(row + k)] = task.weight;
+    }
+    auto block_norm = [&](std::size_t at) {
+      const auto r = ws.residual.segment(static_cast<Eigen::Index>(row + at), 3);
+      return r.norm();
+    };
+    if (task.kind == TaskKind::pose) {
+      e.position_error = std::max(e.position_error, block_norm(0));
+      e.orientation_error = std::max(e.orientation_error, block_norm(3));
+    } else if (is_position_like(task.kind)) {
+      e.position_error = std::max(e.position_error, block_norm(0));
+    } else {
+      e.orientation_error = std::max(e.orientation_error, block_norm(0));
+    }
+    if (!with_jacobian) continue;
+    // Jacobian rows: d(current)/dq from the screw columns (docs/ik.md has each task's rows).
+    const Vec3<double> x = Ops::apply(w, task.point);
+    const std::size_t joint = static_cast<std::size_t>(task.joint);
+    for (std::size_t d = 0; d < model.dofs().size(); ++d) {
+      const bool moving = moves(model, d, joint);
+      const std::size_t first = model.offset(d), count = parameter_count(model.dofs()[d].type);
+      for (std::size_t i = first; i < first + count; ++i) {
+        const auto col = static_cast<Eigen::Index>(i);
+        auto put = [&](std::size_t at, const Vec3<double>& v) {
+          for (int k = 0; k < 3; ++k) ws.jacobian(static_cast<Eigen::Index>(row + at) + k, col) = moving ? v[k] : 0.0;
+        };
+        const Twist<double>& s = ws.columns[i];
+        const Vec3<double> vx = s.velocity_at(x);
+        switch (task.kind) {
+          case TaskKind::position: put(0, vx); break;
+          case TaskKind::orientation: put(0, s.angular); break;
+          case TaskKind::pose:
+            put(0, vx);
+            put(3, s.angular);
+            break;
+          case TaskKind::aim: {
+            const Vec3<double> dvec = task.location - x;
+            const double len = norm(dvec);
+            const Vec3<double> u = dvec / len, a = Ops::rotate(w, task.axis);
+            put(0, cross(s.angular, a) + (vx - u * dot(u, vx)) / len);
+            break;
+          }
+          case TaskKind::point_on_line: put(0, vx - task.axis * dot(task.axis, vx)); break;
+        }
+      }
+    }
+  }
+  return e;
+}
+
+/// Cost and its exact gradient and Hessian through HyperDual numbers: one evaluation per pair
+/// (i ≤ j), seeding q_i with ε1 and q_j with ε2.
+template <class X, class W>
+double newton_terms(const KinematicModel& model, std::span<const IkTask> tasks, W& ws, const Eigen::VectorXd& q) {
+  using H = HyperDual<double>;
+  using XH = typename TransformOps<X>::template rebind<H>;
+  const std::size_t n = ws.n;
+  double cost = 0;
+  std::array<H, 6> r;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i; j < n; ++j) {
+      for (std::size_t k = 0; k < n; ++k)
+        ws.qh[k] = H(q[static_cast<Eigen::Index>(k)], k == i ? 1.0 : 0.0, k == j ? 1.0 : 0.0, 0.0);
+      model_transforms<XH, H>(model, ws.qh, ws.world_h);
+      H f(0.0);
+      for (const IkTask& task : tasks) {
+        task_residual<XH, H>(task, ws.world_h[static_cast<std::size_t>(task.joint)], r.data());
+        const double level = std::pow(kLevelScale, task.priority);
+        for (std::size_t k = 0; k < task_rows(task.kind); ++k) f += r[k] * r[k] * (0.5 * level * task.weight);
+      }
+      cost = f.real;
+      ws.normal(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = f.e12;
+      ws.normal(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(i)) = f.e12;
+      if (j == i) ws.gradient[static_cast<Eigen::Index>(i)] = f.e1;
+    }
+  return 2 * cost;  // the same scale as Evaluation::cost
+}
+
+}  // namespace
+
+template <class X>
+IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double> q_io, std::span<const double> rest) {
+  Workspace& ws = *ws_;
+  const KinematicModel& model = *model_;
+  const std::size_t n = ws.n;
+  IkResult result;
+  // ---- validation: invalid input is an error, never a hang ----
+  auto invalid = [&](const char* why) {
+    result.status = IkStatus::invalid_input;
+    result.message = why;
+    return result;
+  };
+  if (q_io.size() != n) return invalid("q must have one value per model parameter");
+  if (!rest.empty() && rest.size() != n) return invalid("rest must be empty or have one value per model parameter");
+  for (double v : q_io)
+    if (!std::isfinite(v)) return invalid("q has a non-finite value");
+  for (double v : rest)
+    if (!std::isfinite(v)) return invalid("rest has a non-finite value");
+  ws.row_of.clear();
+  std::size_t rows = 0;
+  for (const IkTask& t : tasks) {
+    if (t.joint < 0 || static_cast<std::size_t>(t.joint) >= ws.joints) return invalid("a task's effector is not a joint of the model");
+    if (t.priority < 0 || t.priority >= kMaxLevels) return invalid("task priorities must be 0 to 3");
+    if (!(t.weight > 0) || !std::isfinite(t.weight)) return invalid("task weights must be positive and finite");
+    const auto& c = t.target;
+    for (double v : {c.real.w, c.real.x, c.real.y, c.real.z, c.dual.w, c.dual.x, c.dual.y, c.dual.z, t.point.x, t.point.y,
+                     t.point.z, t.axis.x, t.axis.y, t.axis.z, t.location.x, t.location.y, t.location.z})
+      if (!std::isfinite(v)) return invalid("a task has a non-finite value");
+    if (!c.is_unit(1e-9)) return invalid("a task's target is not a unit dual quaternion");
+    if ((t.kind == TaskKind::aim || t.kind == TaskKind::point_on_line) && std::abs(norm(t.axis) - 1) > 1e-9)
+      return invalid("a task's axis is not unit");
+    if (ws.row_of.size() == ws.row_of.capacity()) return invalid("too many tasks (at most 64)");
+    ws.row_of.push_back(rows);
+    rows += task_rows(t.kind);
+  }
+  if (rows > static_cast<std::size_t>(ws.residual.size())) return invalid("more task rows than options.max_rows");
+  const auto m = static_cast<Eigen::Index>(rows);
+  int last_level = 0;
+  for (const IkTask& t : tasks) last_level = std::max(last_level, t.priority);
+  const auto limits = model.limits();
+
+  for (std::size_t i = 0; i < n; ++i) ws.q[static_cast<Eigen::Index>(i)] = q_io[i];
+  for (std::size_t i = 0; i < n; ++i) ws.rest[static_cast<Eigen::Index>(i)] = rest.empty() ? q_io[i] : rest[i];
+  auto clamp_into = [&](Eigen::VectorXd& v) {
+    for (std::size_t i = 0; i < n; ++i) {
+      auto& x = v[static_cast<Eigen::Index>(i)];
+      x = std::clamp(x, limits[i].lower, limits[i].upper);
+    }
+  };
+  clamp_into(ws.q);
+  ws.rng.seed(options_.seed);
+
+  auto converged = [&](const Evaluation& e) {
+    return e.position_error <= options_.position_tolerance && e.orientation_error <= options_.orientation_tolerance;
+  };
+  const bool newton = options_.method == IkMethod::newton;
+  Evaluation best = evaluate<X>(model, tasks, ws, ws.q, false);
+  ws.best = ws.q;
+  bool exhausted = false;
+
+  for (int start = 0; start <= options_.max_restarts && !converged(best); ++start) {
+    if (start > 0) {  // a restart: a random pose within the limits (unlimited: ±π about the input)
+      ++result.restarts;
+      for (std::size_t i = 0; i < n; ++i) {
+        const auto l = limits[i];
+        const double c = q_io[i];
+        const double lo = std::isfinite(l.lower) ? l.lower : c - std::numbers::pi;
+        const double hi = std::isfinite(l.upper) ? l.upper : c + std::numbers::pi;
+        ws.q[static_cast<Eigen::Index>(i)] = std::uniform_real_distribution<double>(lo, hi)(ws.rng);
+      }
+    }
+    Evaluation cur = evaluate<X>(model, tasks, ws, ws.q, !newton);
+    double lambda = options_.initial_damping;
+    int it = 0, stalled = 0;
+    for (; it < options_.max_iterations && !converged(cur); ++it) {
+      ++result.iterations;
+      // The normal equations A δ = b of this iteration, over the free parameters.
+      if (newton) {
+        cur.cost = newton_terms<X>(model, tasks, ws, ws.q);
+        ws.rhs = -ws.gradient;  // descent: −∇f
+      } else {
+        ws.weighted.head(m) = ws.weights.head(m).cwiseProduct(ws.residual.head(m));
+        ws.rhs.noalias() = ws.jacobian.topRows(m).transpose() * ws.weighted.head(m);
+      }
+      // Parameters at a limit that the descent direction pushes outwards stay there.
+      for (std::size_t i = 0; i < n; ++i) {
+        const double qi = ws.q[static_cast<Eigen::Index>(i)], gi = ws.rhs[static_cast<Eigen::Index>(i)];
+        ws.fixed[i] = (qi >= limits[i].upper && gi > 0) || (qi <= limits[i].lower && gi < 0);
+      }
+      // The step for damping λ over the parameters not pinned at a limit (false: the damped Newton
+      // matrix is not positive definite).
+      auto compute_step = [&](double damping) -> bool {
+        if (newton) {
+            ws.projector = ws.normal;  // H
+            ws.projector.diagonal().array() += damping;
+            for (std::size_t i = 0; i < n; ++i)
+              if (ws.fixed[i]) {
+                ws.projector.row(static_cast<Eigen::Index>(i)).setZero();
+                ws.projector.col(static_cast<Eigen::Index>(i)).setZero();
+                ws.projector(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) = 1;
+              }
+            ws.ldlt.compute(ws.projector);
+            if (ws.ldlt.info() != Eigen::Success || !ws.ldlt.isPositive()) return false;
+            ws.step = ws.rhs;
+            for (std::size_t i = 0; i < n; ++i)
+              if (ws.fixed[i]) ws.step[static_cast<Eigen::Index>(i)] = 0;
+            ws.step = ws.ldlt.solve(ws.step);
+          } else {
+            // Damped least squares by priority level: level k solves in the null space of levels < k,
+            // in the row space (m_k × m_k systems: m_k ≤ 24 rows against up to 36 parameters).
+            ws.step.setZero();
+            ws.projector.setIdentity();
+            bool projected = false;
+            for (int level = 0; level <= last_level; ++level) {
+              Eigen::Index ml = 0;
+              for (std::size_t t = 0; t < tasks.size(); ++t) {
+                if (tasks[t].priority != level) continue;
+                const auto row = static_cast<Eigen::Index>(ws.row_of[t]), k = static_cast<Eigen::Index>(task_rows(tasks[t].kind));
+                for (Eigen::Index r = row; r < row + k; ++r, ++ml) {
+                  const double sw = std::sqrt(ws.weights[r]);
+                  if (projected)
+                    ws.level_jacobian.row(ml).noalias() = sw * ws.jacobian.row(r) * ws.projector;
+                  else
+                    ws.level_jacobian.row(ml) = sw * ws.jacobian.row(r);
+                  // What this level still needs after the levels above: √w (r − J δ).
+                  ws.weighted[ml] = sw * (ws.residual[r] - ws.jacobian.row(r).dot(ws.step));
+                }
+              }
+              if (ml == 0) continue;
+              for (std::size_t i = 0; i < n; ++i)
+                if (ws.fixed[i]) ws.level_jacobian.col(static_cast<Eigen::Index>(i)).head(ml).setZero();
+              const auto lj = ws.level_jacobian.topRows(ml);
+              auto a = ws.row_normal.topLeftCorner(ml, ml);
+              a.noalias() = lj * lj.transpose();
+              a.diagonal().array() += damping;
+              auto& llt = ws.llt_by_rows[static_cast<std::size_t>(ml / 3)];
+              llt.compute(a);
+              ws.row_vector.head(ml) = llt.solve(ws.weighted.head(ml));
+              ws.step.noalias() += lj.transpose() * ws.row_vector.head(ml);
+              if (level < last_level || options_.rest_weight > 0) {
+                // The null space of this level, nearly exact (tiny damping), for the levels below:
+                // P ← P − J̃ᵀ (J̃ J̃ᵀ + μI)⁻¹ J̃ with J̃ = √W J P.
+                a.diagonal().array() += 1e-10 - damping;
+                llt.compute(a);
+                auto solved = ws.rows_by_parameters.topRows(ml);
+                solved = llt.solve(lj);
+                ws.scratch.noalias() = lj.transpose() * solved;
+                ws.projector -= ws.scratch;
+                projected = true;
+              }
+            }
+            if (options_.rest_weight > 0) {
+              ws.level_step = options_.rest_weight * (ws.rest - ws.q);
+              for (std::size_t i = 0; i < n; ++i)
+                if (ws.fixed[i]) ws.level_step[static_cast<Eigen::Index>(i)] = 0;
+              ws.step.noalias() += ws.projector * ws.level_step;
+            }
+            if (options_.method == IkMethod::gauss_seidel) {
+              // Kenwright's projected Gauss–Seidel: the same damped normal equations (all levels
+              // stacked), solved by sweeps that keep every q_i + δ_i within its limits.
+              for (Eigen::Index r = 0; r < m; ++r) ws.level_jacobian.row(r) = ws.jacobian.row(r) * std::sqrt(ws.weights[r]);
+              ws.normal.noalias() = ws.level_jacobian.topRows(m).transpose() * ws.level_jacobian.topRows(m);
+              ws.normal.diagonal().array() += damping;
+              ws.step.setZero();
+              for (int sweep = 0; sweep < 20; ++sweep)
+                for (std::size_t i = 0; i < n; ++i) {
+                  const auto ii = static_cast<Eigen::Index>(i);
+                  if (ws.fixed[i]) continue;
+                  const double sum = ws.rhs[ii] - ws.normal.row(ii).dot(ws.step) + ws.normal(ii, ii) * ws.step[ii];
+                  const double qi = ws.q[ii];
+                  ws.step[ii] = std::clamp(sum / ws.normal(ii, ii), limits[i].lower - qi, limits[i].upper - qi);
+                }
+            }
+          }
+        return true;
+      };
+      bool accepted = false;
+      while (!accepted && lambda < 1e12) {
+        // Parameters pushed past a limit by the step are clamped to it (projection).
+        const bool ok = compute_step(lambda);
+        if (!ok) {
+          lambda *= 4;
+          continue;
+        }
+        ws.trial = ws.q + ws.step;
+        clamp_into(ws.trial);
+        const Evaluation next = evaluate<X>(model, tasks, ws, ws.trial, false);
+        if (better(next, cur)) {
+          accepted = true;
+          stalled = next.cost > cur.cost * (1 - 1e-10) ? stalled + 1 : 0;
+          ws.q = ws.trial;
+          cur = next;
+          lambda = std::max(lambda / 3, 1e-12);
+        } else {
+          lambda *= 4;
+        }
+      }
+      // No descent at any damping, or no progress for a while: a local minimum (or the closest
+      // reach of an unreachable target).
+      if (!accepted || stalled >= 3) break;
+      if (!newton) cur = evaluate<X>(model, tasks, ws, ws.q, true);
+    }
+    if (better(cur, best) || converged(cur)) {
+      best = cur;
+      ws.best = ws.q;
+      exhausted = it == options_.max_iterations && !converged(cur);  // how the best start ended
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) q_io[i] = ws.best[static_cast<Eigen::Index>(i)];
+  result.position_error = best.position_error;
+  result.orientation_error = best.orientation_error;
+  result.status = converged(best) ? IkStatus::converged : exhausted ? IkStatus::iteration_limit : IkStatus::unreachable;
+  return result;
+}
+
+template class BasicIkSolver<DualQuaternion<double>>;
+template class BasicIkSolver<Mat4<double>>;
+
+}  // namespace dq
