@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Builds and runs the whole test suite: a Release build; the same suite under AddressSanitizer +
-# UndefinedBehaviorSanitizer; the threaded tests under ThreadSanitizer; then every fuzz target for
-# a bounded time (DQKIT_FUZZ_SECONDS, default 45). Installs its Debian packages when missing.
+# UndefinedBehaviorSanitizer; the unit tests built with -mavx2 -mfma (where the CPU has them: the
+# results must not depend on the instruction set, docs/design.md); the threaded tests under
+# ThreadSanitizer; then every fuzz target for a bounded time (DQKIT_FUZZ_SECONDS, default 45).
+# Installs its Debian packages when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/deps.sh
@@ -23,6 +25,16 @@ echo "== Release build and tests"
 run_suite release
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
 run_suite asan-ubsan -DDQKIT_SANITIZE=ON -DDQKIT_BUILD_BENCHMARKS=OFF
+
+if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo; then
+  echo "== Release build with -mavx2 -mfma: the unit tests (the packaging tests are the same as above)"
+  cmake -S . -B build/avx2 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="-mavx2 -mfma" -DDQKIT_BUILD_BENCHMARKS=OFF \
+    -DDQKIT_BUILD_EXAMPLES=OFF >/dev/null
+  cmake --build build/avx2 -j "$jobs"
+  run_ctest --test-dir build/avx2 -j "$jobs" -LE package
+else
+  echo "== (this CPU has no AVX2 + FMA: the -mavx2 -mfma build is skipped)"
+fi
 
 echo "== ThreadSanitizer build: the tests that use threads"
 cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDQKIT_TSAN=ON -DDQKIT_BUILD_BENCHMARKS=OFF \
