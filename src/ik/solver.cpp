@@ -60,10 +60,10 @@ template <class X>
 struct BasicIkSolver<X>::Workspace {
   using Ops = TransformOps<X>;
   std::size_t n = 0, joints = 0;
-  std::vector<X> world;
-  std::vector<Twist<double>> columns;
-  Eigen::MatrixXd jacobian, normal, projector, level_jacobian, scratch, row_normal, rows_by_parameters;
-  Eigen::VectorXd residual, weights, weighted, row_vector, gradient, step, level_step, rhs, q, trial, best, rest;
+  std::vector<X> world, spare_world;
+  std::vector<Twist<double>> columns, spare_columns;
+  Eigen::MatrixXd jacobian, spare_jacobian, normal, projector, level_jacobian, scratch, row_normal, rows_by_parameters;
+  Eigen::VectorXd residual, spare_residual, weights, weighted, row_vector, gradient, step, level_step, rhs, q, trial, best, rest;
   Eigen::LDLT<Eigen::MatrixXd> ldlt;
   std::vector<Eigen::LLT<Eigen::MatrixXd>> llt_by_rows;  // one per system size 3k, so none reallocates
   std::vector<std::size_t> row_of;  // first row of each task
@@ -72,12 +72,24 @@ struct BasicIkSolver<X>::Workspace {
   std::vector<typename Ops::template rebind<HyperDual<double>>> world_h;
   std::mt19937_64 rng;
 
+  /// Exchanges the evaluation buffers (forward kinematics, residual, Jacobian) with the spare set:
+  /// a trial is evaluated into fresh buffers and kept, or swapped back, without copying.
+  void swap_evaluation() noexcept {
+    world.swap(spare_world);
+    columns.swap(spare_columns);
+    jacobian.swap(spare_jacobian);
+    residual.swap(spare_residual);
+  }
+
   Workspace(const KinematicModel& m, std::size_t max_rows)
       : n(m.parameters()),
         joints(m.skeleton().size()),
         world(joints),
+        spare_world(joints),
         columns(n),
+        spare_columns(n),
         jacobian(max_rows, n),
+        spare_jacobian(max_rows, n),
         normal(n, n),
         projector(n, n),
         level_jacobian(max_rows, n),
@@ -85,6 +97,7 @@ struct BasicIkSolver<X>::Workspace {
         row_normal(max_rows, max_rows),
         rows_by_parameters(max_rows, n),
         residual(max_rows),
+        spare_residual(max_rows),
         weights(max_rows),
         weighted(max_rows),
         row_vector(max_rows),
@@ -101,6 +114,8 @@ struct BasicIkSolver<X>::Workspace {
         qh(n),
         world_h(joints) {
     row_of.reserve(64);
+    jacobian.setZero();
+    spare_jacobian.setZero();
     for (std::size_t k = 0; k <= max_rows / 3; ++k) llt_by_rows.emplace_back(static_cast<Eigen::Index>(3 * k));
   }
 };
@@ -422,7 +437,9 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
         }
         ws.trial = ws.q + ws.step;
         clamp_into(ws.trial);
-        const Evaluation next = evaluate<X>(model, tasks, ws, ws.trial, false);
+        ws.swap_evaluation();
+        const Evaluation next = evaluate<X>(model, tasks, ws, ws.trial, !newton);
+        if (!better(next, cur)) ws.swap_evaluation();  // rejected: the current buffers come back
         if (better(next, cur)) {
           accepted = true;
           stalled = next.cost > cur.cost * (1 - 1e-10) ? stalled + 1 : 0;
@@ -436,7 +453,6 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
       // No descent at any damping, or no progress for a while: a local minimum (or the closest
       // reach of an unreachable target).
       if (!accepted || stalled >= 3) break;
-      if (!newton) cur = evaluate<X>(model, tasks, ws, ws.q, true);
     }
     if (better(cur, best) || converged(cur)) {
       best = cur;
