@@ -18,7 +18,7 @@ namespace dq {
 namespace {
 
 constexpr int kMaxLevels = 4;
-constexpr double kLevelScale = 1e-3;  // cost weight of each lower priority level relative to the one above
+constexpr double kLevelScale = 1e-6;  // cost weight of each lower priority level relative to the one above
 
 bool is_position_like(TaskKind k) { return k == TaskKind::position || k == TaskKind::point_on_line; }
 
@@ -67,7 +67,8 @@ struct BasicIkSolver<X>::Workspace {
   Eigen::LDLT<Eigen::MatrixXd> ldlt;
   std::vector<Eigen::LLT<Eigen::MatrixXd>> llt_by_rows;  // one per system size 3k, so none reallocates
   std::vector<std::size_t> row_of;  // first row of each task
-  std::vector<std::uint8_t> fixed;  // parameter pinned at a limit this iteration
+  std::vector<std::uint8_t> fixed;  // parameter pinned at a limit this iteration (or not free)
+  std::vector<std::uint8_t> free;   // set_free_parameters
   std::vector<HyperDual<double>> qh;
   std::vector<typename Ops::template rebind<HyperDual<double>>> world_h;
   std::mt19937_64 rng;
@@ -111,6 +112,7 @@ struct BasicIkSolver<X>::Workspace {
         rest(n),
         ldlt(static_cast<Eigen::Index>(n)),
         fixed(n),
+        free(n, 1),
         qh(n),
         world_h(joints) {
     row_of.reserve(64);
@@ -125,6 +127,12 @@ BasicIkSolver<X>::BasicIkSolver(const KinematicModel& model, const IkOptions& op
     : model_(&model), options_(options), ws_(std::make_unique<Workspace>(model, options.max_rows)) {}
 template <class X>
 BasicIkSolver<X>::~BasicIkSolver() = default;
+
+template <class X>
+void BasicIkSolver<X>::set_free_parameters(std::span<const std::uint8_t> free) {
+  DQ_PRECONDITION(free.empty() || free.size() == ws_->n, "set_free_parameters needs no flags or one per parameter");
+  for (std::size_t i = 0; i < ws_->n; ++i) ws_->free[i] = free.empty() || free[i] != 0;
+}
 template <class X>
 BasicIkSolver<X>::BasicIkSolver(BasicIkSolver&&) noexcept = default;
 template <class X>
@@ -139,15 +147,20 @@ struct Evaluation {
   double position_error = 0, orientation_error = 0;
 };
 
-/// Whether a is an improvement on b: lexicographic over the priority levels (a lower level may
-/// only gain where every level above it does not get worse beyond rounding).
-bool better(const Evaluation& a, const Evaluation& b) {
-  for (int l = 0; l < kMaxLevels; ++l) {
-    const double slack = 1e-12 * b.level[static_cast<std::size_t>(l)] + 1e-30;
-    if (a.level[static_cast<std::size_t>(l)] < b.level[static_cast<std::size_t>(l)] - slack) return true;
-    if (a.level[static_cast<std::size_t>(l)] > b.level[static_cast<std::size_t>(l)] + slack) return false;
+/// Whether a is an improvement on b, by the merit Σ_k scale^k cost_k over the priority levels k.
+/// The step's direction keeps the priorities (each level in the null space of those above); the
+/// merit only decides its length, and it must let a higher level's error grow to second order for
+/// a while (a step along the linearized null space moves off the curved constraint, and the next
+/// step comes back): a strictly lexicographic test would stall there. Costs below `floor` (well
+/// within the tolerances) count as zero.
+bool better(const Evaluation& a, const Evaluation& b, double floor) {
+  double ma = 0, mb = 0;
+  for (std::size_t l = 0; l < kMaxLevels; ++l) {
+    const double scale = std::pow(kLevelScale, static_cast<double>(l));
+    ma += scale * (a.level[l] > floor ? a.level[l] : 0);
+    mb += scale * (b.level[l] > floor ? b.level[l] : 0);
   }
-  return false;
+  return ma < mb * (1 - 1e-12);
 }
 
 template <class X, class W>
@@ -274,6 +287,8 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
   for (const IkTask& t : tasks) {
     if (t.joint < 0 || static_cast<std::size_t>(t.joint) >= ws.joints) return invalid("a task's effector is not a joint of the model");
     if (t.priority < 0 || t.priority >= kMaxLevels) return invalid("task priorities must be 0 to 3");
+    if (t.priority > 0 && options_.method == IkMethod::gauss_seidel)
+      return invalid("Gauss-Seidel solves one priority level: give every task priority 0 (and weights)");
     if (!(t.weight > 0) || !std::isfinite(t.weight)) return invalid("task weights must be positive and finite");
     const auto& c = t.target;
     for (double v : {c.real.w, c.real.x, c.real.y, c.real.z, c.dual.w, c.dual.x, c.dual.y, c.dual.z, t.point.x, t.point.y,
@@ -303,6 +318,7 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
   clamp_into(ws.q);
   ws.rng.seed(options_.seed);
 
+  const double floor = 0.01 * std::pow(std::min(options_.position_tolerance, options_.orientation_tolerance), 2);
   auto converged = [&](const Evaluation& e) {
     return e.position_error <= options_.position_tolerance && e.orientation_error <= options_.orientation_tolerance;
   };
@@ -317,6 +333,10 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
       for (std::size_t i = 0; i < n; ++i) {
         const auto l = limits[i];
         const double c = q_io[i];
+        if (!ws.free[i]) {
+          ws.q[static_cast<Eigen::Index>(i)] = std::clamp(c, l.lower, l.upper);
+          continue;
+        }
         const double lo = std::isfinite(l.lower) ? l.lower : c - std::numbers::pi;
         const double hi = std::isfinite(l.upper) ? l.upper : c + std::numbers::pi;
         ws.q[static_cast<Eigen::Index>(i)] = std::uniform_real_distribution<double>(lo, hi)(ws.rng);
@@ -338,7 +358,7 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
       // Parameters at a limit that the descent direction pushes outwards stay there.
       for (std::size_t i = 0; i < n; ++i) {
         const double qi = ws.q[static_cast<Eigen::Index>(i)], gi = ws.rhs[static_cast<Eigen::Index>(i)];
-        ws.fixed[i] = (qi >= limits[i].upper && gi > 0) || (qi <= limits[i].lower && gi < 0);
+        ws.fixed[i] = !ws.free[i] || (qi >= limits[i].upper && gi > 0) || (qi <= limits[i].lower && gi < 0);
       }
       // The step for damping λ over the parameters not pinned at a limit (false: the damped Newton
       // matrix is not positive definite).
@@ -439,8 +459,8 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
         clamp_into(ws.trial);
         ws.swap_evaluation();
         const Evaluation next = evaluate<X>(model, tasks, ws, ws.trial, !newton);
-        if (!better(next, cur)) ws.swap_evaluation();  // rejected: the current buffers come back
-        if (better(next, cur)) {
+        if (!better(next, cur, floor)) ws.swap_evaluation();  // rejected: the current buffers come back
+        if (better(next, cur, floor)) {
           accepted = true;
           stalled = next.cost > cur.cost * (1 - 1e-10) ? stalled + 1 : 0;
           ws.q = ws.trial;
@@ -454,7 +474,7 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
       // reach of an unreachable target).
       if (!accepted || stalled >= 3) break;
     }
-    if (better(cur, best) || converged(cur)) {
+    if (better(cur, best, floor) || converged(cur)) {
       best = cur;
       ws.best = ws.q;
       exhausted = it == options_.max_iterations && !converged(cur);  // how the best start ended

@@ -67,7 +67,7 @@ constexpr std::size_t task_rows(TaskKind k) noexcept { return k == TaskKind::pos
 enum class IkMethod {
   levenberg_marquardt,  ///< damped least squares with adaptive damping (the default)
   newton,               ///< Newton on ½ Σ w |r|², gradient and Hessian exact from HyperDual
-  gauss_seidel,         ///< Kenwright's projected Gauss–Seidel on the damped normal equations
+  gauss_seidel,         ///< Kenwright's projected Gauss–Seidel on the damped normal equations (one priority level)
 };
 
 struct IkOptions {
@@ -112,6 +112,11 @@ class BasicIkSolver {
   /// wrong size, a NaN, a non-unit target, an effector that is not a joint, more rows than
   /// options.max_rows) gives IkStatus::invalid_input and leaves q untouched. Allocates nothing.
   IkResult solve(std::span<const IkTask> tasks, std::span<double> q, std::span<const double> rest = {});
+
+  /// Restricts later solves to some parameters (a flag per parameter, non-zero: may move); the
+  /// others keep their input values (a leg solved alone, the rest of the body as captured).
+  /// Empty: every parameter may move. Precondition: empty or one flag per parameter.
+  void set_free_parameters(std::span<const std::uint8_t> free);
 
   const KinematicModel& model() const noexcept { return *model_; }
   const IkOptions& options() const noexcept { return options_; }
