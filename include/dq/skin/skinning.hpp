@@ -1,0 +1,89 @@
+// Skinning kernels (library dqkit::skin): linear blend skinning (LBS), dual-quaternion skinning
+// (DQS, Kavan et al. 2008, with the two-phase handling of scaled binds) and centre-of-rotation
+// skinning (CoR, Le and Hodgins 2016), as a batch job over vertices in structure-of-arrays form.
+//
+// Per frame: update_palette turns the bones' rigid world transforms into the palette (one 3x4
+// matrix and one dual quaternion per bone, float); a SkinningJob then skins a vertex range. Jobs
+// allocate nothing; SkinningThreads keeps its threads between frames, so a frame allocates nothing.
+//
+// Designed for the SIMD kernels of the performance issue: every vertex runs the same K influence
+// slots (padding has weight 0), data is read from component arrays, the antipodality sign is a
+// copysign (no branch), and a thread's range can be cut at any multiple of the lane count.
+#pragma once
+
+#include <condition_variable>
+#include <cstddef>
+#include <mutex>
+#include <span>
+#include <thread>
+#include <vector>
+
+#include "dq/skin/skin.hpp"
+#include "dq/util/expected.hpp"
+
+namespace dq {
+
+enum class SkinningMethod { lbs, dqs, cor };
+
+/// Per-frame bone transforms, structure-of-arrays. `m[r * 4 + c][bone]` is entry (r, c) of the
+/// bone's full 3x4 skinning matrix W · B; `q[k][bone]` is component k (real w, x, y, z, dual
+/// w, x, y, z) of its rigid part W · rigid(B) as a unit dual quaternion.
+struct SkinPalette {
+  explicit SkinPalette(std::size_t bones = 0);
+  std::size_t size() const noexcept { return m[0].size(); }
+  std::vector<float> m[12];
+  std::vector<float> q[8];
+};
+
+/// Fills the palette from the bones' rigid world transforms (one per bone, the skeleton's
+/// pose at the bones of this skin). Precondition: sizes match the skin. Allocates nothing.
+void update_palette(const Skin& skin, std::span<const DualQuaternion<double>> bone_world, SkinPalette& palette);
+
+/// Skinned output, component arrays of at least `first + count` entries each. Normals and
+/// tangents are written when the spans are non-empty (and the skin has them).
+struct SkinnedVertices {
+  std::span<float> px, py, pz;
+  std::span<float> nx, ny, nz;
+  std::span<float> tx, ty, tz;
+};
+
+struct SkinningJob {
+  const Skin* skin = nullptr;
+  const SkinPalette* palette = nullptr;
+  SkinningMethod method = SkinningMethod::dqs;
+  SkinnedVertices out;
+  std::size_t first = 0;  ///< vertex range [first, first + count)
+  std::size_t count = 0;
+
+  /// Says why the job cannot run: no skin or palette, a palette of another size, a range past
+  /// the skin, output spans too short, CoR without centres.
+  Status validate() const;
+  /// Runs on the calling thread. Precondition: validate() succeeds (checked).
+  void run() const;
+};
+
+/// A fixed set of worker threads for skinning jobs, started once and reused every frame (no
+/// thread creation or allocation per frame). run() splits a job's range into equal parts, one
+/// per thread (the calling thread takes the first), and returns when all are done.
+class SkinningThreads {
+ public:
+  explicit SkinningThreads(unsigned threads);  ///< total threads including the caller (≥ 1)
+  ~SkinningThreads();
+  SkinningThreads(const SkinningThreads&) = delete;
+  SkinningThreads& operator=(const SkinningThreads&) = delete;
+  unsigned size() const noexcept { return static_cast<unsigned>(workers_.size()) + 1; }
+  /// Validates, then runs the job split across the threads.
+  Status run(const SkinningJob& job);
+
+ private:
+  void work(unsigned index);
+  std::vector<std::thread> workers_;
+  std::mutex mutex_;
+  std::condition_variable start_, done_;
+  SkinningJob job_;
+  std::size_t generation_ = 0;
+  unsigned pending_ = 0;
+  bool stop_ = false;
+};
+
+}  // namespace dq

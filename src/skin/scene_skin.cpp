@@ -1,0 +1,106 @@
+#include "dq/skin/scene_skin.hpp"
+
+#include <algorithm>
+
+#include "dq/anim/animation.hpp"
+#include "dq/anim/forward_kinematics.hpp"
+#include "dq/util/assert.hpp"
+
+namespace dq {
+
+Expected<SceneSkin> SceneSkin::build(const ImportedScene& scene, const SkinOptions& options) {
+  SceneSkin out;
+  out.joint_count_ = scene.skeleton.size();
+  out.normals_ = !scene.meshes.empty();
+  for (const ImportedMesh& mesh : scene.meshes) {
+    RawSkin raw;
+    raw.positions = mesh.positions;
+    raw.normals = mesh.normals;
+    raw.triangles = mesh.indices;
+    std::vector<std::uint32_t> bone_joints;
+    if (mesh.influences.empty()) {
+      // A rigid mesh: one bone, its node, bound with the identity.
+      if (mesh.node_joint < 0) return Error{"mesh '" + mesh.name + "' has no bones and no node"};
+      bone_joints.push_back(static_cast<std::uint32_t>(mesh.node_joint));
+      raw.inverse_bind.push_back(Mat4<double>::identity());
+      raw.influence_offsets.resize(mesh.positions.size() + 1);
+      for (std::size_t v = 0; v <= mesh.positions.size(); ++v) raw.influence_offsets[v] = static_cast<std::uint32_t>(v);
+      raw.influences.assign(mesh.positions.size(), RawSkinInfluence{0, 1.0f});
+    } else {
+      bone_joints = mesh.bone_joints;
+      raw.inverse_bind = mesh.inverse_bind;
+      raw.influence_offsets = mesh.influence_offsets;
+      for (const SkinInfluence& i : mesh.influences) {
+        const auto it = std::find(bone_joints.begin(), bone_joints.end(), i.joint);
+        if (it == bone_joints.end()) return Error{"mesh '" + mesh.name + "': an influence names joint " + std::to_string(i.joint) + ", which is not one of its bones"};
+        raw.influences.push_back({static_cast<std::uint32_t>(it - bone_joints.begin()), i.weight});
+      }
+    }
+    for (std::uint32_t j : bone_joints) {
+      if (j >= scene.skeleton.size()) return Error{"mesh '" + mesh.name + "': bone joint " + std::to_string(j) + " is not in the skeleton"};
+      raw.bone_scale.push_back(j < scene.joint_scale.size() ? scene.joint_scale[j] : 1.0);
+    }
+    Expected<Skin> skin = build_skin(raw, options);
+    if (!skin) return Error{"mesh '" + mesh.name + "': " + skin.error().message};
+    out.normals_ = out.normals_ && skin->has_normals();
+    for (std::uint32_t t : mesh.indices) out.triangles_.push_back(static_cast<std::uint32_t>(out.vertex_count_ + t));
+    out.palettes_.emplace_back(bone_joints.size());
+    out.bone_world_.emplace_back(bone_joints.size());
+    out.parts_.push_back({std::move(*skin), std::move(bone_joints), out.vertex_count_, mesh.name});
+    out.vertex_count_ += mesh.positions.size();
+  }
+  return out;
+}
+
+std::size_t SceneSkin::renormalized_vertices() const noexcept {
+  std::size_t n = 0;
+  for (const Part& p : parts_) n += p.skin.renormalized_vertices();
+  return n;
+}
+
+SkinnedFrame SceneSkin::make_frame() const {
+  SkinnedFrame f;
+  for (auto* a : {&f.px, &f.py, &f.pz}) a->assign(vertex_count_, 0.0f);
+  if (normals_)
+    for (auto* a : {&f.nx, &f.ny, &f.nz}) a->assign(vertex_count_, 0.0f);
+  f.triangles = triangles_;
+  return f;
+}
+
+Status SceneSkin::skin(std::span<const DualQuaternion<double>> joint_world, SkinningMethod method, SkinningThreads& threads,
+                       SkinnedFrame& frame) {
+  DQ_PRECONDITION(joint_world.size() == joint_count_ && frame.size() == vertex_count_ &&
+                      (frame.nx.size() == vertex_count_) == normals_,
+                  "SceneSkin::skin needs one transform per joint and a frame from make_frame()", Error{"precondition"});
+  for (std::size_t i = 0; i < parts_.size(); ++i) {
+    const Part& part = parts_[i];
+    for (std::size_t b = 0; b < part.bone_joints.size(); ++b) bone_world_[i][b] = joint_world[part.bone_joints[b]];
+    update_palette(part.skin, bone_world_[i], palettes_[i]);
+    SkinningJob job{&part.skin, &palettes_[i], method, {}, part.first_vertex, 0};
+    // The job indexes the skin's vertices from 0: hand it the part's window of the frame.
+    const std::size_t n = part.skin.vertex_count();
+    auto window = [&](std::vector<float>& a) { return a.empty() ? std::span<float>{} : std::span<float>(a).subspan(part.first_vertex, n); };
+    job.out = {window(frame.px), window(frame.py), window(frame.pz), window(frame.nx), window(frame.ny), window(frame.nz), {}, {}, {}};
+    job.first = 0;
+    job.count = n;
+    if (Status s = threads.run(job); !s) return Error{"mesh '" + part.name + "': " + s.error().message};
+  }
+  return {};
+}
+
+Status pose_at(const ImportedScene& scene, std::size_t animation, double time, std::vector<DualQuaternion<double>>& joint_world) {
+  const std::size_t joints = scene.skeleton.size();
+  joint_world.resize(joints);
+  if (scene.animations.empty()) {
+    local_to_model<DualQuaternion<double>>(scene.skeleton, scene.skeleton.rest_pose(), joint_world);
+    return {};
+  }
+  if (animation >= scene.animations.size())
+    return Error{"animation " + std::to_string(animation) + " does not exist (the file has " + std::to_string(scene.animations.size()) + ")"};
+  std::vector<DualQuaternion<double>> local(joints);
+  sample<double>(scene.animations[animation].animation, time, Interpolation::screw, WrapMode::clamp, local);
+  local_to_model<DualQuaternion<double>>(scene.skeleton, local, joint_world);
+  return {};
+}
+
+}  // namespace dq

@@ -1,0 +1,546 @@
+// Skinning: the skin contract (validation, normalization, canonical order), LBS / DQS / CoR
+// against independent computations (Kavan's formula through matrices, the glTF 2.0 skinning
+// formula on simple_skin.gltf read by tinygltf, Assimp's own node matrices), invariances (order
+// of influences, sign of bone dual quaternions), threads, the scale policy and the file formats.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <numeric>
+
+#include "dq/anim/forward_kinematics.hpp"
+#include "dq/convert/matrix.hpp"
+#include "dq/skin/scene_skin.hpp"
+#include "dq/skin/shapes.hpp"
+#include "dq/skin/skinning.hpp"
+#include "support.hpp"
+
+#if defined(DQKIT_TEST_IMPORT)
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <tiny_gltf.h>
+
+#include <map>
+
+#include "dq/io/scene.hpp"
+#include "models.hpp"
+#endif
+
+namespace dq {
+namespace {
+
+using test::Random;
+
+// The kernels compute in float. A skinned coordinate is a short sum of products of quantities of
+// the model's size S (about 20 roundings, each ≤ ½ ulp of S), so results that agree in exact
+// arithmetic agree to 64 float epsilons of S; double references are exact to that scale.
+float position_tolerance(float size) { return 64 * FLT_EPSILON * size; }
+
+struct Output {
+  std::vector<float> px, py, pz, nx, ny, nz, tx, ty, tz;
+  explicit Output(std::size_t n) : px(n), py(n), pz(n), nx(n), ny(n), nz(n), tx(n), ty(n), tz(n) {}
+  SkinnedVertices view(bool normals, bool tangents) {
+    SkinnedVertices v{px, py, pz, {}, {}, {}, {}, {}, {}};
+    if (normals) v.nx = nx, v.ny = ny, v.nz = nz;
+    if (tangents) v.tx = tx, v.ty = ty, v.tz = tz;
+    return v;
+  }
+  Vec3<float> p(std::size_t v) const { return {px[v], py[v], pz[v]}; }
+  Vec3<float> n(std::size_t v) const { return {nx[v], ny[v], nz[v]}; }
+  Vec3<float> t(std::size_t v) const { return {tx[v], ty[v], tz[v]}; }
+};
+
+Output run(const Skin& skin, std::span<const DualQuaternion<double>> world, SkinningMethod method, unsigned threads = 1) {
+  SkinPalette palette(skin.bone_count());
+  update_palette(skin, world, palette);
+  Output out(skin.vertex_count());
+  SkinningThreads pool(threads);
+  const Status s = pool.run({&skin, &palette, method, out.view(skin.has_normals(), skin.has_tangents()), 0, skin.vertex_count()});
+  EXPECT_TRUE(s.ok()) << s.error().message;
+  return out;
+}
+
+/// A random skin: `bones` bones with rigid random binds, vertices with 1..max_k influences.
+RawSkin random_skin(Random& rng, std::size_t vertices, std::uint32_t bones, std::size_t max_k) {
+  RawSkin raw;
+  raw.influence_offsets.push_back(0);
+  for (std::size_t v = 0; v < vertices; ++v) {
+    const Vec3<double> p = rng.vec3(2.0);
+    raw.positions.push_back({float(p.x), float(p.y), float(p.z)});
+    const Vec3<double> n = normalized(rng.vec3(1.0));
+    raw.normals.push_back({float(n.x), float(n.y), float(n.z)});
+    const std::size_t k = 1 + v % max_k;
+    std::vector<double> w(k);
+    for (double& x : w) x = rng.uniform(0.05, 1.0);
+    const double sum = std::accumulate(w.begin(), w.end(), 0.0);
+    for (std::size_t i = 0; i < k; ++i)
+      raw.influences.push_back({static_cast<std::uint32_t>(rng.engine()() % bones), static_cast<float>(w[i] / sum)});
+    raw.influence_offsets.push_back(static_cast<std::uint32_t>(raw.influences.size()));
+  }
+  for (std::uint32_t b = 0; b < bones; ++b) raw.inverse_bind.push_back(to_mat4(rng.rigid(3.0)));
+  return raw;
+}
+
+std::vector<DualQuaternion<double>> random_pose(Random& rng, std::size_t bones) {
+  std::vector<DualQuaternion<double>> w(bones);
+  for (auto& q : w) q = rng.rigid(3.0);
+  return w;
+}
+
+// ---- the contract ----------------------------------------------------------------------------
+
+TEST(SkinContract, RejectsBadInputWithReasons) {
+  Random rng(1);
+  const RawSkin good = random_skin(rng, 10, 3, 3);
+  ASSERT_TRUE(build_skin(good).has_value());
+  auto expect_error = [](const RawSkin& raw, const std::string& part, SkinOptions options = {}) {
+    const Expected<Skin> s = build_skin(raw, options);
+    ASSERT_FALSE(s.has_value());
+    EXPECT_NE(s.error().message.find(part), std::string::npos) << s.error().message;
+  };
+  RawSkin r = good;
+  r.influences[4].bone = 7;
+  expect_error(r, "bone index 7 is out of range");
+  r = good;
+  r.influences[2].weight = std::nanf("");
+  expect_error(r, "not a finite non-negative number");
+  r = good;
+  r.influences[2].weight = -0.1f;
+  expect_error(r, "not a finite non-negative number");
+  r = good;
+  r.positions[3].y = INFINITY;
+  expect_error(r, "vertex 3: the position is not finite");
+  r = good;
+  r.influences[0].weight = 0;  // vertex 0 has one influence
+  expect_error(r, "vertex 0: has no weight");
+  r = good;
+  r.influences[1].weight *= 2;  // vertex 1 sums to more than 1
+  expect_error(r, "vertex 1: the weights sum to", {WeightPolicy::reject});
+  r = good;
+  r.normals.pop_back();
+  expect_error(r, "normals for 10 vertices");
+  r = good;
+  r.inverse_bind[1](0, 0) = -r.inverse_bind[1](0, 0), r.inverse_bind[1](1, 0) = -r.inverse_bind[1](1, 0), r.inverse_bind[1](2, 0) = -r.inverse_bind[1](2, 0);
+  expect_error(r, "bone 1: the inverse bind matrix mirrors");
+  r = good;
+  r.inverse_bind[0](3, 1) = 0.5;
+  expect_error(r, "bone 0: the inverse bind matrix is not affine");
+  r = good;
+  r.triangles = {0, 1, 10};
+  expect_error(r, "triangle 0 has a vertex index out of range");
+}
+
+TEST(SkinContract, NormalizesOnceAndOrdersCanonically) {
+  RawSkin raw;
+  raw.positions = {{0, 0, 0}, {1, 0, 0}};
+  raw.influence_offsets = {0, 3, 4};
+  raw.influences = {{2, 0.2f}, {0, 0.4f}, {1, 0.4f}, {1, 0.5f}};  // vertex 0 sums to 1; vertex 1 to 0.5
+  raw.inverse_bind.assign(3, Mat4<double>::identity());
+  const Expected<Skin> skin = build_skin(raw);
+  ASSERT_TRUE(skin.has_value()) << skin.error().message;
+  EXPECT_EQ(skin->renormalized_vertices(), 1u);
+  ASSERT_EQ(skin->slots(), 3u);
+  const auto bones = skin->slot_bones();
+  const auto weights = skin->slot_weights();
+  // Vertex 0: weight descending, ties by bone (0 before 1), then bone 2.
+  EXPECT_EQ(bones[0], 0u);
+  EXPECT_EQ(bones[2], 1u);
+  EXPECT_EQ(bones[4], 2u);
+  EXPECT_FLOAT_EQ(weights[0] + weights[2] + weights[4], 1.0f);
+  // Vertex 1: one influence, normalized to 1, padded with weight 0 on its own bone.
+  EXPECT_EQ(weights[1], 1.0f);
+  EXPECT_EQ(weights[3], 0.0f);
+  EXPECT_EQ(weights[5], 0.0f);
+  EXPECT_EQ(bones[3], 1u);
+}
+
+// ---- DQS against independent computations ----------------------------------------------------
+
+TEST(Skinning, DqsEqualsLbsWhereAllInfluencesAreOneBone) {
+  Random rng(2);
+  RawSkin raw = random_skin(rng, 300, 5, 4);
+  // Every vertex's influences on one bone (several entries of the same bone, as files may have).
+  for (std::size_t v = 0; v + 1 < raw.influence_offsets.size(); ++v)
+    for (std::uint32_t i = raw.influence_offsets[v]; i < raw.influence_offsets[v + 1]; ++i) raw.influences[i].bone = static_cast<std::uint32_t>(v % 5);
+  const Skin skin = *build_skin(raw);
+  const auto pose = random_pose(rng, 5);
+  const Output lbs = run(skin, pose, SkinningMethod::lbs), dqs = run(skin, pose, SkinningMethod::dqs), cor = run(skin, pose, SkinningMethod::cor);
+  const float tol = position_tolerance(8);  // |p| ≤ 2√3, binds and poses move by ≤ 3√3
+  for (std::size_t v = 0; v < skin.vertex_count(); ++v) {
+    EXPECT_LE(test::max_abs_diff(dqs.p(v), lbs.p(v)), tol) << "vertex " << v;
+    EXPECT_LE(test::max_abs_diff(cor.p(v), lbs.p(v)), tol) << "vertex " << v;
+    EXPECT_LE(test::max_abs_diff(dqs.n(v), lbs.n(v)), position_tolerance(1)) << "vertex " << v;
+  }
+}
+
+TEST(Skinning, DqsEqualsKavansFormulaThroughMatrices) {
+  Random rng(3);
+  const RawSkin raw = random_skin(rng, 500, 6, 5);
+  const Skin skin = *build_skin(raw);
+  const auto pose = random_pose(rng, 6);
+  const Output dqs = run(skin, pose, SkinningMethod::dqs);
+  // Reference (double): each bone's matrix W · B⁻¹ converted to a dual quaternion, blended with
+  // signs taken against the influence of largest weight, normalized, converted back to a matrix.
+  for (std::size_t v = 0; v < skin.vertex_count(); ++v) {
+    const auto first = raw.influences.begin() + raw.influence_offsets[v], last = raw.influences.begin() + raw.influence_offsets[v + 1];
+    const auto pivot = std::max_element(first, last, [](const RawSkinInfluence& a, const RawSkinInfluence& b) {
+      return a.weight != b.weight ? a.weight < b.weight : a.bone > b.bone;
+    });
+    auto dq_of = [&](std::uint32_t b) { return from_matrix(to_mat4(pose[b]) * raw.inverse_bind[b]); };
+    const DualQuaternion<double> q0 = dq_of(pivot->bone);
+    DualQuaternion<double> blend{{0, 0, 0, 0}, {0, 0, 0, 0}};
+    double wsum = 0;
+    for (auto i = first; i != last; ++i) wsum += double(i->weight);
+    for (auto i = first; i != last; ++i) {
+      const DualQuaternion<double> q = dq_of(i->bone);
+      blend += q * (dot(q.real, q0.real) < 0 ? -double(i->weight) / wsum : double(i->weight) / wsum);
+    }
+    const double n = std::sqrt(dot(blend.real, blend.real));
+    const Mat4<double> m = to_mat4(DualQuaternion<double>{blend.real / n, blend.dual / n});
+    const Vec3<double> expected = transform_point(m, Vec3<double>{raw.positions[v].x, raw.positions[v].y, raw.positions[v].z});
+    EXPECT_LE(test::max_abs_diff(dqs.p(v), Vec3<float>{float(expected.x), float(expected.y), float(expected.z)}), position_tolerance(8)) << "vertex " << v;
+  }
+}
+
+TEST(Skinning, UnchangedByInfluenceOrderAndBoneSigns) {
+  Random rng(4);
+  const RawSkin raw = random_skin(rng, 400, 6, 6);
+  RawSkin reversed = raw;
+  for (std::size_t v = 0; v + 1 < raw.influence_offsets.size(); ++v)
+    std::reverse(reversed.influences.begin() + raw.influence_offsets[v], reversed.influences.begin() + raw.influence_offsets[v + 1]);
+  const Skin a = *build_skin(raw), b = *build_skin(reversed);
+  auto pose = random_pose(rng, 6);
+  auto flipped = pose;
+  for (std::size_t i = 0; i < flipped.size(); i += 2) flipped[i] = -flipped[i];
+  for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor}) {
+    const Output x = run(a, pose, m), y = run(b, pose, m), z = run(a, flipped, m);
+    // Bit for bit: the canonical order makes the sums identical, and a sign flip negates exactly.
+    EXPECT_EQ(x.px, y.px);
+    EXPECT_EQ(x.py, y.py);
+    EXPECT_EQ(x.pz, y.pz);
+    EXPECT_EQ(x.nx, y.nx);
+    EXPECT_EQ(x.px, z.px);
+    EXPECT_EQ(x.py, z.py);
+    EXPECT_EQ(x.pz, z.pz);
+    EXPECT_EQ(x.nz, z.nz);
+  }
+}
+
+TEST(Skinning, ThreadsGiveTheSameResult) {
+  Random rng(5);
+  const Skin skin = *build_skin(random_skin(rng, 1003, 7, 4));
+  const auto pose = random_pose(rng, 7);
+  for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor}) {
+    const Output one = run(skin, pose, m, 1), three = run(skin, pose, m, 3);
+    EXPECT_EQ(one.px, three.px);
+    EXPECT_EQ(one.nz, three.nz);
+  }
+}
+
+TEST(Skinning, TangentsRotateWithTheBone) {
+  const Skin skin = *build_skin(two_bone_cylinder());
+  ASSERT_TRUE(skin.has_tangents());
+  const Quaternion<double> r = Quaternion<double>::from_axis_angle({0, 0, 1}, 0.9);
+  const std::vector<DualQuaternion<double>> pose{DualQuaternion<double>::from_rotation(r), DualQuaternion<double>::from_rotation(r)};
+  const Vec3<double> expected = r.rotate(Vec3<double>{1, 0, 0});
+  for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor}) {
+    const Output o = run(skin, pose, m);
+    for (std::size_t v = 0; v < skin.vertex_count(); ++v)
+      ASSERT_LE(test::max_abs_diff(o.t(v), Vec3<float>{float(expected.x), float(expected.y), float(expected.z)}), position_tolerance(1));
+  }
+}
+
+// ---- scale: Kavan's two-phase method -----------------------------------------------------------
+
+TEST(Skinning, ScaledBindsLandWhereTheMeshTransformPutsThem) {
+  // Bind: every bone's full transform is the same affine A (with scale and shear), so in the bind
+  // pose every vertex must land at A v, for all three methods.
+  Random rng(6);
+  RawSkin raw = random_skin(rng, 300, 4, 4);
+  Mat4<double> a = to_mat4(rng.rigid(2.0));
+  const Mat4<double> scale_shear = Mat4<double>::from_rows(1.5, 0.2, 0, 0, 0.2, 0.8, 0.1, 0, 0, 0.1, 1.2, 0, 0, 0, 0, 1);
+  a = a * scale_shear;
+  std::vector<DualQuaternion<double>> bind = random_pose(rng, 4);
+  raw.bone_scale.assign(4, 2.0);  // the joints carry a uniform scale of 2 the rigid pose does not
+  for (std::size_t b = 0; b < 4; ++b) {
+    // A = W S(2) B⁻¹  ⇒  B⁻¹ = S(½) W⁻¹ A
+    Mat4<double> half = Mat4<double>::identity();
+    half(0, 0) = half(1, 1) = half(2, 2) = 0.5;
+    raw.inverse_bind[b] = half * to_mat4(bind[b].conjugate()) * a;
+  }
+  const Skin skin = *build_skin(raw);
+  EXPECT_TRUE(skin.has_scale_shear());
+  for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor}) {
+    const Output o = run(skin, bind, m);
+    for (std::size_t v = 0; v < skin.vertex_count(); ++v) {
+      const Vec3<double> e = transform_point(a, Vec3<double>{raw.positions[v].x, raw.positions[v].y, raw.positions[v].z});
+      ASSERT_LE(test::max_abs_diff(o.p(v), Vec3<float>{float(e.x), float(e.y), float(e.z)}), position_tolerance(8))
+          << "method " << static_cast<int>(m) << " vertex " << v;
+    }
+  }
+}
+
+// ---- centres of rotation --------------------------------------------------------------------
+
+TEST(Skinning, CentresOfRotationOfACylinderLieOnItsAxis) {
+  const CylinderShape shape;
+  const Skin skin = *build_skin(two_bone_cylinder(shape));
+  std::size_t blended = 0;
+  for (std::size_t v = 0; v < skin.vertex_count(); ++v) {
+    const float w0 = skin.slot_weights()[v];
+    const Vec3<float> c = skin.center(v);
+    if (w0 == 1.0f) {
+      EXPECT_EQ(c, skin.position(v)) << "one influence: the centre is the vertex";
+      continue;
+    }
+    ++blended;
+    // By the cylinder's symmetry the centre is on the axis, at the x of the vertex's ring (all
+    // vertices of a ring have the same weights).
+    EXPECT_LE(std::abs(c.y) + std::abs(c.z), position_tolerance(1)) << "vertex " << v;
+    EXPECT_NEAR(c.x, skin.position(v).x, shape.blend) << "vertex " << v;
+  }
+  EXPECT_GT(blended, 0u);
+}
+
+// ---- real characters ---------------------------------------------------------------------------
+#if defined(DQKIT_TEST_IMPORT)
+
+ImportedScene import(const std::string& relative) {
+  Expected<ImportedScene> s = import_scene(test::assimp_models() / relative);
+  EXPECT_TRUE(s.has_value()) << (s ? "" : s.error().message);
+  return s ? std::move(*s) : ImportedScene{};
+}
+
+SkinnedFrame skin_scene(const ImportedScene& scene, std::span<const DualQuaternion<double>> world, SkinningMethod m) {
+  Expected<SceneSkin> skins = SceneSkin::build(scene);
+  EXPECT_TRUE(skins.has_value()) << (skins ? "" : skins.error().message);
+  SkinnedFrame frame = skins->make_frame();
+  SkinningThreads threads(2);
+  const Status s = skins->skin(world, m, threads, frame);
+  EXPECT_TRUE(s.ok()) << s.error().message;
+  return frame;
+}
+
+float frame_size(const SkinnedFrame& f) {
+  float m = 0;
+  for (std::size_t v = 0; v < f.size(); ++v) m = std::max({m, std::abs(f.px[v]), std::abs(f.py[v]), std::abs(f.pz[v])});
+  return m;
+}
+
+// The glTF 2.0 specification's skinning, computed from the file read by tinygltf (not Assimp):
+// joint matrix = global transform of the joint node · its inverse bind matrix; a vertex is
+// Σ wᵢ jointMatrixᵢ v. Rotation keys are normalized (glTF requires unit quaternions; this file's
+// are off by up to 2.3e-4) and interpolated by slerp; the times tested are key times.
+TEST(SkinningFiles, SimpleSkinLbsEqualsTheGltfSpecification) {
+  DQKIT_REQUIRE_MODELS();
+  const std::string path = (test::assimp_models() / "glTF2/simple_skin/simple_skin.gltf").string();
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadASCIIFromFile(&model, &err, &warn, path)) << err;
+  auto floats = [&](int accessor_index) {
+    const tinygltf::Accessor& a = model.accessors[static_cast<std::size_t>(accessor_index)];
+    const tinygltf::BufferView& v = model.bufferViews[static_cast<std::size_t>(a.bufferView)];
+    const auto* base = model.buffers[static_cast<std::size_t>(v.buffer)].data.data() + v.byteOffset + a.byteOffset;
+    const std::size_t n = a.count * static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type)));
+    std::vector<double> out(n);
+    const std::size_t components = static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type)));
+    const std::size_t stride = v.byteStride ? v.byteStride : components * static_cast<std::size_t>(tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType)));
+    for (std::size_t i = 0; i < a.count; ++i)
+      for (std::size_t c = 0; c < components; ++c) {
+        if (a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+          float f;
+          std::memcpy(&f, base + i * stride + c * 4, 4);
+          out[i * components + c] = f;
+        } else {
+          std::uint16_t u;
+          std::memcpy(&u, base + i * stride + c * 2, 2);
+          out[i * components + c] = u;
+        }
+      }
+    return out;
+  };
+  const tinygltf::Primitive& prim = model.meshes[0].primitives[0];
+  const auto pos = floats(prim.attributes.at("POSITION")), joints = floats(prim.attributes.at("JOINTS_0")),
+             weights = floats(prim.attributes.at("WEIGHTS_0")), ibm = floats(model.skins[0].inverseBindMatrices);
+  const auto& channel = model.animations[0].channels[0];
+  const auto& sampler = model.animations[0].samplers[static_cast<std::size_t>(channel.sampler)];
+  const auto key_times = floats(sampler.input), key_values = floats(sampler.output);
+
+  const ImportedScene scene = import("glTF2/simple_skin/simple_skin.gltf");
+  for (std::size_t k = 0; k < key_times.size(); ++k) {
+    const double t = key_times[k];
+    // Node matrices: T · R · S from the file, with the animated rotation (normalized key).
+    auto local = [&](std::size_t node) {
+      const tinygltf::Node& n = model.nodes[node];
+      Quaternion<double> r;
+      if (n.rotation.size() == 4) r = {n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]};
+      if (static_cast<int>(node) == channel.target_node)
+        r = Quaternion<double>(key_values[4 * k + 3], key_values[4 * k], key_values[4 * k + 1], key_values[4 * k + 2]).normalized();
+      Mat4<double> m = Mat4<double>::identity();
+      const Mat3<double> rm = r.to_matrix();
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) m(i, j) = rm(i, j);
+      if (n.translation.size() == 3) m(0, 3) = n.translation[0], m(1, 3) = n.translation[1], m(2, 3) = n.translation[2];
+      return m;
+    };
+    std::map<std::size_t, Mat4<double>> global;
+    std::function<void(std::size_t, const Mat4<double>&)> walk = [&](std::size_t node, const Mat4<double>& parent) {
+      global[node] = parent * local(node);
+      for (int c : model.nodes[node].children) walk(static_cast<std::size_t>(c), global[node]);
+    };
+    for (int root : model.scenes[0].nodes) walk(static_cast<std::size_t>(root), Mat4<double>::identity());
+    std::vector<DualQuaternion<double>> world;
+    ASSERT_TRUE(pose_at(scene, 0, t, world).ok());
+    const SkinnedFrame frame = skin_scene(scene, world, SkinningMethod::lbs);
+    ASSERT_EQ(frame.size(), pos.size() / 3);
+    for (std::size_t v = 0; v < frame.size(); ++v) {
+      Vec3<double> expected{0, 0, 0};
+      for (std::size_t i = 0; i < 4; ++i) {
+        const auto joint_node = static_cast<std::size_t>(model.skins[0].joints[static_cast<std::size_t>(joints[4 * v + i])]);
+        Mat4<double> inverse_bind;
+        for (std::size_t e = 0; e < 16; ++e) inverse_bind.m[e] = ibm[16 * static_cast<std::size_t>(joints[4 * v + i]) + e];
+        expected += transform_point(global[joint_node] * inverse_bind, Vec3<double>{pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]}) * weights[4 * v + i];
+      }
+      EXPECT_LE(test::max_abs_diff(frame.position(v), Vec3<float>{float(expected.x), float(expected.y), float(expected.z)}), position_tolerance(2))
+          << "t = " << t << ", vertex " << v;
+    }
+  }
+}
+
+// Assimp's own scene graph, as full 4x4 matrices with their scales: a vertex is
+// Σ wᵢ Gᵢ Oᵢ v / Σ wᵢ (G: product of the node matrices, O: the bone's offset matrix). dqkit's
+// skeleton is rigid with the scale recorded apart (joint_scale); LBS of the rest pose must agree.
+struct AssimpReference {
+  std::vector<Vec3<double>> positions;  ///< all meshes, import order
+  bool same_bind = true;                ///< every bone of every mesh has the same G·O at rest (rest pose = bind pose)
+};
+
+AssimpReference assimp_rest_pose(const std::string& relative) {
+  Assimp::Importer importer;
+  const aiScene* s = importer.ReadFile((test::assimp_models() / relative).string(),
+                                       aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_LimitBoneWeights | aiProcess_ValidateDataStructure);
+  EXPECT_NE(s, nullptr);
+  std::map<std::string, aiMatrix4x4> global;
+  std::function<void(const aiNode*, const aiMatrix4x4&)> walk = [&](const aiNode* n, const aiMatrix4x4& parent) {
+    const aiMatrix4x4 g = parent * n->mTransformation;
+    global[n->mName.C_Str()] = g;
+    for (unsigned c = 0; c < n->mNumChildren; ++c) walk(n->mChildren[c], g);
+  };
+  walk(s->mRootNode, aiMatrix4x4());
+  AssimpReference out;
+  for (unsigned m = 0; m < s->mNumMeshes; ++m) {
+    const aiMesh& mesh = *s->mMeshes[m];
+    std::vector<Vec3<double>> sum(mesh.mNumVertices, Vec3<double>{0, 0, 0});
+    std::vector<double> wsum(mesh.mNumVertices, 0);
+    aiMatrix4x4 first;
+    for (unsigned b = 0; b < mesh.mNumBones; ++b) {
+      const aiBone& bone = *mesh.mBones[b];
+      const aiMatrix4x4 k = global[bone.mName.C_Str()] * bone.mOffsetMatrix;
+      if (b == 0) first = k;
+      // Assimp's matrices are float: bones bound alike agree to float rounding (1e-6 relative);
+      // 1e-4 separates that from a different bind (animation_with_skeleton.fbx differs by 744).
+      for (unsigned i = 0; i < 4; ++i)
+        for (unsigned j = 0; j < 4; ++j)
+          if (std::abs(double(k[i][j]) - double(first[i][j])) > 1e-4 * (1 + std::abs(double(first[i][j])))) out.same_bind = false;
+      double kd[3][4];
+      for (unsigned i = 0; i < 3; ++i)
+        for (unsigned j = 0; j < 4; ++j) kd[i][j] = double(k[i][j]);
+      for (unsigned w = 0; w < bone.mNumWeights; ++w) {
+        const aiVertexWeight& vw = bone.mWeights[w];
+        const aiVector3D& p = mesh.mVertices[vw.mVertexId];
+        const double x = double(p.x), y = double(p.y), z = double(p.z);
+        const Vec3<double> q{kd[0][0] * x + kd[0][1] * y + kd[0][2] * z + kd[0][3], kd[1][0] * x + kd[1][1] * y + kd[1][2] * z + kd[1][3],
+                             kd[2][0] * x + kd[2][1] * y + kd[2][2] * z + kd[2][3]};
+        sum[vw.mVertexId] += q * double(vw.mWeight);
+        wsum[vw.mVertexId] += double(vw.mWeight);
+      }
+    }
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) out.positions.push_back(sum[v] / wsum[v]);
+  }
+  return out;
+}
+
+class SkinnedCharacter : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SkinnedCharacter, RestPoseAgreesWithAssimpsScaledSceneGraph) {
+  DQKIT_REQUIRE_MODELS();
+  const ImportedScene scene = import(GetParam());
+  const AssimpReference reference = assimp_rest_pose(GetParam());
+  std::vector<DualQuaternion<double>> rest(scene.skeleton.size());
+  local_to_model<DualQuaternion<double>>(scene.skeleton, scene.skeleton.rest_pose(), rest);
+  for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor}) {
+    // DQS and CoR equal LBS only where every bone maps the vertex the same way: rest = bind.
+    if (m != SkinningMethod::lbs && !reference.same_bind) continue;
+    const SkinnedFrame frame = skin_scene(scene, rest, m);
+    ASSERT_EQ(frame.size(), reference.positions.size());
+    const float tol = position_tolerance(frame_size(frame));
+    for (std::size_t v = 0; v < frame.size(); ++v) {
+      const Vec3<double>& e = reference.positions[v];
+      ASSERT_LE(test::max_abs_diff(frame.position(v), Vec3<float>{float(e.x), float(e.y), float(e.z)}), tol)
+          << GetParam() << " method " << static_cast<int>(m) << " vertex " << v;
+    }
+  }
+}
+
+TEST_P(SkinnedCharacter, AnimatedFramesAreFiniteAndOrderIndependent) {
+  DQKIT_REQUIRE_MODELS();
+  const ImportedScene scene = import(GetParam());
+  ASSERT_FALSE(scene.animations.empty());
+  std::vector<DualQuaternion<double>> world;
+  ASSERT_TRUE(pose_at(scene, 0, 0.5 * scene.animations[0].animation.duration(), world).ok());
+  ImportedScene reversed = scene;
+  for (ImportedMesh& mesh : reversed.meshes)
+    for (std::size_t v = 0; v + 1 < mesh.influence_offsets.size(); ++v)
+      std::reverse(mesh.influences.begin() + mesh.influence_offsets[v], mesh.influences.begin() + mesh.influence_offsets[v + 1]);
+  for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor}) {
+    const SkinnedFrame a = skin_scene(scene, world, m), b = skin_scene(reversed, world, m);
+    EXPECT_EQ(a.px, b.px);
+    EXPECT_EQ(a.pz, b.pz);
+    for (std::size_t v = 0; v < a.size(); ++v) ASSERT_TRUE(std::isfinite(a.px[v] + a.py[v] + a.pz[v])) << v;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Files, SkinnedCharacter,
+                         ::testing::Values("glTF2/simple_skin/simple_skin.gltf", "X/BCN_Epileptic.X", "X/Testwuson.X",
+                                           "FBX/animation_with_skeleton.fbx", "FBX/huesitos.fbx", "Collada/box_nested_animation.dae"));
+
+TEST(SkinningFiles, FormatsKeepTheVertexOrder) {
+  DQKIT_REQUIRE_MODELS();
+  const ImportedScene scene = import("X/Testwuson.X");
+  std::vector<DualQuaternion<double>> world;
+  ASSERT_TRUE(pose_at(scene, 0, 0.3, world).ok());
+  const SkinnedFrame frame = skin_scene(scene, world, SkinningMethod::dqs);
+  const std::string csv = *format_frame(frame, MeshFormat::csv);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "vertex,x,y,z");
+  EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), frame.size() + 1);
+  char line[128];
+  std::snprintf(line, sizeof line, "\n7,%.9g,%.9g,%.9g\n", double(frame.px[7]), double(frame.py[7]), double(frame.pz[7]));
+  EXPECT_NE(csv.find(line), std::string::npos);
+  const std::string obj = *format_frame(frame, MeshFormat::obj);
+  std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", double(frame.px[0]), double(frame.py[0]), double(frame.pz[0]));
+  EXPECT_EQ(obj.find("v "), obj.find(line));
+  const std::string ply = *format_frame(frame, MeshFormat::ply);
+  EXPECT_NE(ply.find("element vertex " + std::to_string(frame.size()) + "\n"), std::string::npos);
+  EXPECT_NE(ply.find("element face " + std::to_string(frame.triangles.size() / 3) + "\n"), std::string::npos);
+  // glTF: read back with tinygltf; positions and indices as written.
+  const std::string gltf = *format_frame(frame, MeshFormat::gltf);
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadASCIIFromString(&model, &err, &warn, gltf.data(), static_cast<unsigned>(gltf.size()), "")) << err;
+  const tinygltf::Accessor& a = model.accessors[static_cast<std::size_t>(model.meshes[0].primitives[0].attributes["POSITION"])];
+  ASSERT_EQ(a.count, frame.size());
+  const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(a.bufferView)];
+  const auto* p = reinterpret_cast<const float*>(model.buffers[0].data.data() + view.byteOffset);
+  for (std::size_t v = 0; v < frame.size(); ++v) ASSERT_EQ(p[3 * v + 2], frame.pz[v]);
+}
+
+#endif
+
+}  // namespace
+}  // namespace dq
