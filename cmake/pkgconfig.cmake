@@ -20,7 +20,7 @@ dqkit_pkgconfig(dqkit "" "${PROJECT_DESCRIPTION}: the header-only algebra" "")
 dqkit_pkgconfig(dqkit-anim dqkit_anim "dqkit skeletons, forward kinematics, the biped" dqkit)
 dqkit_pkgconfig(dqkit-io dqkit_io "dqkit BVH reading and writing, motion loading, safe file writing" dqkit-anim)
 if(TARGET dqkit_ik)
-  dqkit_pkgconfig(dqkit-ik dqkit_ik "dqkit kinematic models and inverse kinematics" dqkit-anim)
+  dqkit_pkgconfig(dqkit-ik dqkit_ik "dqkit kinematic models and inverse kinematics" dqkit-io)
 endif()
 if(DQKIT_HAVE_ASSIMP)
   # A static dqkit_import needs Assimp on the consumer's link line; a shared one only privately.

@@ -15,7 +15,9 @@
 #include "dq/ik/baselines.hpp"
 #include "dq/ik/jacobian.hpp"
 #include "dq/ik/kinematic_model.hpp"
+#include "dq/ik/motion_capture.hpp"
 #include "dq/ik/solver.hpp"
+#include "models.hpp"
 #include "support.hpp"
 
 // Counts heap allocations, so that a test can show a solve makes none. (The replacement pairs
@@ -438,6 +440,79 @@ TEST(IkBaselines, CcdAndFabrikReachPositionTargets) {
   EXPECT_GE(fabrik_ok, 95);
   std::vector<double> arm_q(7, 0.0);  // the arm has revolute joints, not a chain of balls
   EXPECT_EQ(fabrik(arm, IkTask::reach(flange, {0.3, 0, 0.5}), arm_q).status, IkStatus::invalid_input);
+}
+
+TEST(MotionCapture, ChannelModelReproducesTheBvhTransforms) {
+  DQKIT_REQUIRE_MODELS();
+  for (const char* file : {"01_01.bvh", "Boxing_Toes.bvh"}) {
+    const Expected<BvhFile> bvh = read_bvh_file(test::assimp_models() / "BVH" / file);
+    ASSERT_TRUE(bvh) << bvh.error().message;
+    const Expected<BvhKinematics> kin = bvh_kinematics(*bvh);
+    ASSERT_TRUE(kin) << kin.error().message;
+    EXPECT_EQ(kin->model.parameters(), bvh->channel_count());
+    const Skeleton& s = kin->model.skeleton();
+    std::vector<double> q(kin->model.parameters());
+    std::vector<DualQuaternion<double>> local(s.size());
+    for (std::size_t f : {std::size_t{0}, bvh->frame_count / 2, bvh->frame_count - 1}) {
+      kin->to_parameters(bvh->frame(f), q);
+      local_transforms<DualQuaternion<double>, double>(kin->model, q, local);
+      for (std::size_t j = 0; j < s.size(); ++j) {
+        const DualQuaternion<double> want = bvh_local_transform(*bvh, static_cast<std::size_t>(s.raw_indices()[j]), f);
+        EXPECT_TRUE(approx_equal(local[j], want, 1e-9 * (1 + norm(want.translation())), SignPolicy::same_rotation)) << file << " joint " << j;
+      }
+      // And back: writing every parameter reproduces the frame.
+      std::vector<double> frame(bvh->channel_count(), 0.0);
+      kin->to_frame(q, std::vector<std::uint8_t>(q.size(), 1), frame);
+      for (std::size_t c = 0; c < frame.size(); ++c) EXPECT_NEAR(frame[c], bvh->frame(f)[c], 1e-12 * (1 + std::abs(frame[c])));
+    }
+  }
+}
+
+TEST(MotionCapture, FixFeetPinsContactsAndLeavesTheRestExactly) {
+  DQKIT_REQUIRE_MODELS();
+  const Expected<BvhFile> original = read_bvh_file(test::assimp_models() / "BVH" / "01_01.bvh");
+  ASSERT_TRUE(original);
+  BvhFile fixed = *original;
+  const Expected<FixFeetReport> report = fix_foot_sliding(fixed);
+  ASSERT_TRUE(report) << report.error().message;
+  ASSERT_EQ(report->feet.size(), 2u);
+  for (const FootContactReport& foot : report->feet) {
+    EXPECT_FALSE(foot.contacts.empty()) << foot.joint;
+    // Each contact is one pin held through it: the foot no longer slides (the capture's feet slid
+    // 34 and 37 cm over their contacts; what is left is the solver's tolerance, 1e-9 of the leg).
+    EXPECT_GT(foot.slide_before, 10.0) << foot.joint;
+    EXPECT_LT(foot.slide_after, 1e-4) << foot.joint;
+  }
+  EXPECT_EQ(report->max_other_joint_motion, 0.0);
+  EXPECT_LT(report->max_pin_error, 1e-4);  // centimetres: under a micrometre
+  // Every channel outside the legs is bit for bit the same; leg channels changed.
+  const Expected<BvhKinematics> kin = bvh_kinematics(*original);
+  ASSERT_TRUE(kin);
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < kin->model.parameters(); ++i) {
+    const Dof& d = kin->model.dofs()[i];
+    const std::string& joint = kin->model.skeleton().names()[static_cast<std::size_t>(d.joint)];
+    const bool in_leg = std::find(report->leg_joints.begin(), report->leg_joints.end(), joint) != report->leg_joints.end();
+    for (std::size_t f = 0; f < original->frame_count; ++f) {
+      const double a = original->frame(f)[kin->channel_of[i]], b = fixed.frame(f)[kin->channel_of[i]];
+      if (!in_leg) {
+        ASSERT_EQ(a, b) << joint << " frame " << f;
+      } else {
+        changed += a != b;
+      }
+    }
+  }
+  EXPECT_GT(changed, 0u);
+  // The file written is valid BVH with the same hierarchy and channels.
+  const Expected<BvhFile> back = read_bvh(write_bvh(fixed), "fixed.bvh");
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_EQ(back->joints.size(), original->joints.size());
+  EXPECT_EQ(back->channel_count(), original->channel_count());
+  // Unknown foot names are an error, not a guess.
+  BvhFile copy = *original;
+  FixFeetOptions named;
+  named.feet = {"NoSuchToe"};
+  EXPECT_FALSE(fix_foot_sliding(copy, named));
 }
 
 }  // namespace
