@@ -99,7 +99,7 @@ TEST_P(CmuFiles, RotationOrderConversionKeepsEveryTransform) {
   const Expected<BvhFile> a = read_bvh_file(kModels / "BVH" / GetParam());
   ASSERT_TRUE(a);
   for (EulerOrder order : {EulerOrder::ZXY, EulerOrder::XYZ, EulerOrder::YZX}) {
-    const BvhFile b = with_rotation_order(*a, order);
+    const BvhFile b = *with_rotation_order(*a, order);
     const Expected<BvhFile> reread = read_bvh(write_bvh(b), "converted");
     ASSERT_TRUE(reread) << reread.error().message;
     for (std::size_t f = 0; f < a->frame_count; f += 97)
@@ -157,7 +157,7 @@ TEST(Bvh, MalformedInputIsRejectedWithTheRightLine) {
       {head + "MOTION\nFrames: 1\nFrame Time: -1", "x:9: expected a positive frame time"},
       {head + "MOTION\nFrames: 2\nFrame Time: 0.1\n1 2 3\n4 5\n", "x:11: frame 1 has 2 values, expected 3"},
       {head + "MOTION\nFrames: 2\nFrame Time: 0.1\n1 2 3\n", "expected 2 frames, found 1"},
-      {head + "MOTION\nFrames: 1\nFrame Time: 0.1\n1 2 3\n4 5\n", "x:11: expected end of file after 1 frames, found '4'"},
+      {head + "MOTION\nFrames: 1\nFrame Time: 0.1\n1 2 3\n4 5\n", "x:11: expected end of file after 1 frame, found '4'"},
       {head + "MOTION\nFrames: 1\nFrame Time: 0.1\n1 inf 3\n", "x:10: expected a finite number in frame 0, found 'inf'"},
       {head + "MOTION\nFrames: 99999999999999999999\n", "x:8: expected a frame count"},
   };

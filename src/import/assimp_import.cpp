@@ -1,10 +1,12 @@
 #include <assimp/Importer.hpp>
+#include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include <algorithm>
 #include <cmath>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "import_internal.hpp"
 
@@ -17,13 +19,32 @@ struct Rigid {
   Vec3<double> translation;
   double scale = 1;
   bool non_uniform = false;
+  bool degenerate = false;  ///< not a rotation times a positive scale: zero, singular, sheared or beyond 1e±12
 };
+
+/// Whether the upper 3x3 block is R · diag(s) with R a rotation and every s in [1e-12, 1e12]
+/// (a mirror, a shear or a zero column would otherwise become an arbitrary rotation).
+bool is_rotation_and_scale(const aiMatrix4x4& m) {
+  const double c[3][3] = {{m.a1, m.b1, m.c1}, {m.a2, m.b2, m.c2}, {m.a3, m.b3, m.c3}};  // columns
+  double len[3];
+  for (int i = 0; i < 3; ++i) {
+    len[i] = std::sqrt(c[i][0] * c[i][0] + c[i][1] * c[i][1] + c[i][2] * c[i][2]);
+    if (!(len[i] >= 1e-12 && len[i] <= 1e12)) return false;
+  }
+  for (int i = 0; i < 3; ++i)
+    for (int k = i + 1; k < 3; ++k)
+      if (std::abs(c[i][0] * c[k][0] + c[i][1] * c[k][1] + c[i][2] * c[k][2]) > 1e-4 * len[i] * len[k]) return false;  // shear
+  const double det = c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1]) - c[1][0] * (c[0][1] * c[2][2] - c[0][2] * c[2][1]) +
+                     c[2][0] * (c[0][1] * c[1][2] - c[0][2] * c[1][1]);
+  return det > 0;  // a mirror is not a rotation
+}
 
 Rigid decompose(const aiMatrix4x4& m) {
   aiVector3D s, t;
   aiQuaternion r;
   m.Decompose(s, r, t);
   Rigid out;
+  out.degenerate = !is_rotation_and_scale(m);
   out.rotation = Quaternion<double>(r.w, r.x, r.y, r.z).normalized();
   out.translation = {t.x, t.y, t.z};
   const double sx = std::abs(s.x), sy = std::abs(s.y), sz = std::abs(s.z);
@@ -67,6 +88,9 @@ class SceneBuilder {
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
       const Rigid& r = rest_[i];
       if (!finite(r)) return Error{source_ + ": node '" + raw_.joints[i].name + "' has a non-finite transform"};
+      if (r.degenerate)
+        return Error{source_ + ": node '" + raw_.joints[i].name +
+                     "' has a transform that is not a rotation and a scale (zero, mirrored, sheared or scaled beyond 1e±12)"};
     }
     Expected<Skeleton> skeleton = build_skeleton(raw_);
     if (!skeleton) return Error{source_ + ": " + skeleton.error().message};
@@ -75,8 +99,7 @@ class SceneBuilder {
     for (std::size_t j = 0; j < out_.skeleton.size(); ++j) runtime_of_[static_cast<std::size_t>(out_.skeleton.raw_indices()[j])] = static_cast<std::uint32_t>(j);
     out_.joint_scale.resize(out_.skeleton.size());
     for (std::size_t i = 0; i < nodes_.size(); ++i) out_.joint_scale[runtime_of_[i]] = accumulated_scale_[i];
-    if (options_.meshes)
-      if (auto e = import_meshes(); !e) return e.error();
+    if (options_.meshes) import_meshes();
     for (unsigned a = 0; a < scene_.mNumAnimations; ++a)
       if (auto e = import_animation(*scene_.mAnimations[a]); !e) return e.error();
     return std::move(out_);
@@ -84,11 +107,24 @@ class SceneBuilder {
 
  private:
   void collect(const aiNode* node, int parent) {
+    // Lights and cameras are scene nodes, not joints: left out (with a warning) when they are
+    // leaves without meshes, unless asked for.
+    std::unordered_map<std::string, const char*> not_joints;
+    if (!options_.lights_and_cameras) {
+      for (unsigned i = 0; i < scene_.mNumLights; ++i) not_joints.emplace(scene_.mLights[i]->mName.C_Str(), "light");
+      for (unsigned i = 0; i < scene_.mNumCameras; ++i) not_joints.emplace(scene_.mCameras[i]->mName.C_Str(), "camera");
+    }
     // Iterative depth-first walk (hostile files can nest deeply).
     std::vector<std::pair<const aiNode*, int>> stack{{node, parent}};
     while (!stack.empty()) {
       const auto [n, p] = stack.back();
       stack.pop_back();
+      if (p >= 0 && n->mNumChildren == 0 && n->mNumMeshes == 0)
+        if (const auto it = not_joints.find(n->mName.C_Str()); it != not_joints.end()) {
+          warn(std::string(it->second) + " '" + it->first + "' is not a joint; left out (ImportOptions::lights_and_cameras keeps it)");
+          skipped_.insert(it->first);
+          continue;
+        }
       const int index = static_cast<int>(nodes_.size());
       nodes_.push_back(n);
       Rigid r = decompose(n->mTransformation);
@@ -110,16 +146,27 @@ class SceneBuilder {
     return it == by_name_.end() ? -1 : static_cast<int>(runtime_of_[it->second]);
   }
 
-  Status import_meshes() {
+  /// Each mesh on its own: a broken one is left out with a warning, the rest of the file loads.
+  void import_meshes() {
     // Which node holds which mesh.
     std::unordered_map<unsigned, int> holder;
     for (std::size_t i = 0; i < nodes_.size(); ++i)
       for (unsigned k = 0; k < nodes_[i]->mNumMeshes; ++k) holder.emplace(nodes_[i]->mMeshes[k], static_cast<int>(runtime_of_[i]));
     for (unsigned m = 0; m < scene_.mNumMeshes; ++m) {
-      const aiMesh& mesh = *scene_.mMeshes[m];
+      Expected<ImportedMesh> mesh = import_mesh(*scene_.mMeshes[m], holder.count(m) ? holder[m] : -1);
+      if (mesh) {
+        out_.meshes.push_back(std::move(*mesh));
+      } else {
+        warn(mesh.error().message + "; the mesh is left out");
+      }
+    }
+  }
+
+  Expected<ImportedMesh> import_mesh(const aiMesh& mesh, int node_joint) {
+    {
       ImportedMesh out;
       out.name = mesh.mName.C_Str();
-      out.node_joint = holder.count(m) ? holder[m] : -1;
+      out.node_joint = node_joint;
       out.positions.reserve(mesh.mNumVertices);
       for (unsigned v = 0; v < mesh.mNumVertices; ++v) out.positions.push_back({mesh.mVertices[v].x, mesh.mVertices[v].y, mesh.mVertices[v].z});
       if (mesh.mNormals)
@@ -128,7 +175,7 @@ class SceneBuilder {
         const aiFace& face = mesh.mFaces[f];
         if (face.mNumIndices != 3) continue;  // points and lines are not surfaces
         for (unsigned k = 0; k < 3; ++k) {
-          if (face.mIndices[k] >= mesh.mNumVertices) return Error{source_ + ": mesh '" + out.name + "' has an index out of range"};
+          if (face.mIndices[k] >= mesh.mNumVertices) return Error{"mesh '" + out.name + "' has an index out of range"};
           out.indices.push_back(face.mIndices[k]);
         }
       }
@@ -136,13 +183,13 @@ class SceneBuilder {
       for (unsigned b = 0; b < mesh.mNumBones; ++b) {
         const aiBone& bone = *mesh.mBones[b];
         const int joint = joint_of(bone.mName);
-        if (joint < 0) return Error{source_ + ": mesh '" + out.name + "' has a bone '" + bone.mName.C_Str() + "' with no node"};
+        if (joint < 0) return Error{"mesh '" + out.name + "' has a bone '" + bone.mName.C_Str() + "' with no node"};
         out.bone_joints.push_back(static_cast<std::uint32_t>(joint));
         out.inverse_bind.push_back(to_mat4(bone.mOffsetMatrix));
         for (unsigned w = 0; w < bone.mNumWeights; ++w) {
           const aiVertexWeight& vw = bone.mWeights[w];
           if (vw.mVertexId >= mesh.mNumVertices || !std::isfinite(vw.mWeight))
-            return Error{source_ + ": mesh '" + out.name + "' bone '" + bone.mName.C_Str() + "' has an invalid weight"};
+            return Error{"mesh '" + out.name + "' bone '" + bone.mName.C_Str() + "' has an invalid weight"};
           if (vw.mWeight > 0) per_vertex[vw.mVertexId].push_back({static_cast<std::uint32_t>(joint), vw.mWeight});
         }
       }
@@ -155,9 +202,8 @@ class SceneBuilder {
         out.influences.clear();
         out.influence_offsets.clear();
       }
-      out_.meshes.push_back(std::move(out));
+      return out;
     }
-    return {};
   }
 
   Status import_animation(const aiAnimation& a) {
@@ -165,8 +211,12 @@ class SceneBuilder {
     const double seconds = a.mDuration / ticks;
     if (!std::isfinite(seconds) || seconds < 0) return Error{source_ + ": animation '" + std::string(a.mName.C_Str()) + "' has an invalid duration"};
     const double rate = std::clamp(options_.sample_rate, 1e-3, 1000.0);
-    const std::size_t frames = static_cast<std::size_t>(std::floor(seconds * rate + 1e-9)) + 1;
-    if (frames > (1u << 22)) return Error{source_ + ": animation '" + std::string(a.mName.C_Str()) + "' is too long to resample"};
+    const std::size_t frames = resampled_frame_count(seconds, rate);  // the last frame on the last key
+    const double bytes = static_cast<double>(frames) * static_cast<double>(out_.skeleton.size()) * sizeof(DualQuaternion<double>);
+    resampled_bytes_ += bytes;
+    if (resampled_bytes_ > static_cast<double>(options_.result_limit_mb) * 1048576.0)
+      return Error{source_ + ": animation '" + std::string(a.mName.C_Str()) + "' is too long to resample: " + std::to_string(frames) +
+                   " frames at " + std::to_string(rate) + " Hz need more than the " + std::to_string(options_.result_limit_mb) + " MB allowed"};
     ImportedAnimation out;
     out.name = a.mName.C_Str();
     Animation& anim = out.animation;
@@ -180,7 +230,8 @@ class SceneBuilder {
       const aiNodeAnim& ch = *a.mChannels[c];
       const int joint = joint_of(ch.mNodeName);
       if (joint < 0) {
-        warn("animation '" + out.name + "' drives '" + ch.mNodeName.C_Str() + "', which is not in the scene; ignored");
+        if (!skipped_.count(ch.mNodeName.C_Str()))
+          warn("animation '" + out.name + "' drives '" + ch.mNodeName.C_Str() + "', which is not in the scene; ignored");
         continue;
       }
       const std::size_t raw = static_cast<std::size_t>(out_.skeleton.raw_indices()[static_cast<std::size_t>(joint)]);
@@ -196,7 +247,7 @@ class SceneBuilder {
         }
       }
       for (std::size_t f = 0; f < frames; ++f) {
-        const double t = static_cast<double>(f) / rate * ticks;
+        const double t = std::min(static_cast<double>(f) / rate, seconds) * ticks;
         const aiVector3D p = sample_keys(ch.mPositionKeys, ch.mNumPositionKeys, t,
                                          aiVector3D(static_cast<float>(rest.translation.x / parent_scale), static_cast<float>(rest.translation.y / parent_scale),
                                                     static_cast<float>(rest.translation.z / parent_scale)),
@@ -232,6 +283,8 @@ class SceneBuilder {
   std::vector<double> accumulated_scale_;
   std::unordered_map<std::string, std::size_t> by_name_;
   std::vector<std::uint32_t> runtime_of_;
+  double resampled_bytes_ = 0;
+  std::unordered_set<std::string> skipped_;  // lights and cameras left out
   RawSkeleton raw_;
   ImportedScene out_;
 };
@@ -243,8 +296,24 @@ constexpr unsigned kFlags = aiProcess_Triangulate | aiProcess_JoinIdenticalVerti
 
 namespace detail {
 
+ImportRequest make_request(bool from_memory, std::string path_or_hint, std::vector<std::uint8_t> data, const ImportOptions& options) {
+  return {.from_memory = from_memory,
+          .path_or_hint = std::move(path_or_hint),
+          .data = std::move(data),
+          .sample_rate = options.sample_rate,
+          .meshes = options.meshes,
+          .lights_and_cameras = options.lights_and_cameras,
+          .result_limit_mb = options.result_limit_mb};
+}
+
+namespace {
+/// Assimp's FBX reader adds "$AssimpFbx$" pivot nodes unless told to fold them into the joints.
+void configure(Assimp::Importer& importer) { importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false); }
+}  // namespace
+
 Expected<ImportedScene> import_file_in_process(const std::filesystem::path& path, const ImportOptions& options) {
   Assimp::Importer importer;
+  configure(importer);
   const aiScene* scene = importer.ReadFile(path.string(), options.meshes ? kFlags : aiProcess_ValidateDataStructure);
   if (!scene) return Error{path.string() + ": " + importer.GetErrorString()};
   return SceneBuilder(*scene, options, path.string()).build();
@@ -252,6 +321,7 @@ Expected<ImportedScene> import_file_in_process(const std::filesystem::path& path
 
 Expected<ImportedScene> import_memory_in_process(std::span<const std::uint8_t> data, const std::string& hint, const ImportOptions& options) {
   Assimp::Importer importer;
+  configure(importer);
   const aiScene* scene = importer.ReadFileFromMemory(data.data(), data.size(), options.meshes ? kFlags : aiProcess_ValidateDataStructure, hint.c_str());
   if (!scene) return Error{"<memory." + hint + ">: " + importer.GetErrorString()};
   return SceneBuilder(*scene, options, "<memory." + hint + ">").build();
@@ -265,17 +335,12 @@ Expected<ImportedScene> import_scene(const std::filesystem::path& path, const Im
   if (!std::filesystem::exists(status)) return Error{path.string() + ": no such file"};
   if (std::filesystem::is_directory(status)) return Error{path.string() + ": is a directory"};
   if (!options.isolate) return detail::import_file_in_process(path, options);
-  return detail::run_isolated({.from_memory = false, .path_or_hint = path.string(), .sample_rate = options.sample_rate, .meshes = options.meshes},
-                              path.string(), options);
+  return detail::run_isolated(detail::make_request(false, path.string(), {}, options), path.string(), options);
 }
 
 Expected<ImportedScene> import_scene_from_memory(std::span<const std::uint8_t> data, const std::string& hint, const ImportOptions& options) {
   if (!options.isolate) return detail::import_memory_in_process(data, hint, options);
-  return detail::run_isolated({.from_memory = true,
-                               .path_or_hint = hint,
-                               .data = std::vector<std::uint8_t>(data.begin(), data.end()),
-                               .sample_rate = options.sample_rate,
-                               .meshes = options.meshes},
+  return detail::run_isolated(detail::make_request(true, hint, std::vector<std::uint8_t>(data.begin(), data.end()), options),
                               "<memory." + hint + ">", options);
 }
 

@@ -25,7 +25,12 @@ struct ImportRequest {
   std::vector<std::uint8_t> data{};  ///< the file's bytes, for from_memory
   double sample_rate = 30;
   bool meshes = true;
+  bool lights_and_cameras = false;
+  std::size_t result_limit_mb = 2048;  ///< the worker refuses to resample beyond it (the caller would refuse the result)
 };
+
+/// The request for a file or memory import with these options.
+ImportRequest make_request(bool from_memory, std::string path_or_hint, std::vector<std::uint8_t> data, const ImportOptions& options);
 
 // The worker protocol, over one socket (the worker's descriptor 3). The caller sends the encoded
 // request and shuts its side for writing; the worker answers with a 64-bit length and that many

@@ -1,14 +1,22 @@
 #include <cctype>
+#include <filesystem>
 
 #include "dq/io/scene.hpp"
 
 namespace dq {
 
 Expected<Motion> import_motion(const std::filesystem::path& path, const MotionOptions& options) {
-  if (is_bvh_path(path)) return load_motion(path);
+  // A device, FIFO or socket is refused here, without blocking (import_scene alone would wait for
+  // a FIFO until the worker's wall-clock limit).
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (std::filesystem::exists(status) && !std::filesystem::is_directory(status) && !std::filesystem::is_regular_file(status))
+    return Error{path.string() + ": is not a regular file (a device, FIFO or socket)"};
+  if (is_bvh_file(path)) return load_motion(path, options);
   ImportOptions io;
-  io.sample_rate = options.sample_rate;
+  io.sample_rate = options.sample_rate > 0 ? options.sample_rate : 30;
   io.timeout_seconds = options.import_timeout;
+  io.result_limit_mb = options.memory_limit_mb;
   Expected<ImportedScene> scene = import_scene(path, io);
   if (!scene) return scene.error();
   Motion m;

@@ -152,6 +152,8 @@ std::string encode_request(const ImportRequest& r) {
   w.pod<std::uint8_t>(r.from_memory);
   w.pod(r.sample_rate);
   w.pod<std::uint8_t>(r.meshes);
+  w.pod<std::uint8_t>(r.lights_and_cameras);
+  w.pod<std::uint64_t>(r.result_limit_mb);
   w.str(r.path_or_hint);
   w.vec(r.data);
   return w.take();
@@ -160,11 +162,15 @@ std::string encode_request(const ImportRequest& r) {
 std::optional<ImportRequest> decode_request(std::string_view bytes) {
   Reader r(bytes, std::numeric_limits<std::size_t>::max());
   ImportRequest out;
-  std::uint8_t from_memory = 0, meshes = 0;
-  if (!r.pod(from_memory) || !r.pod(out.sample_rate) || !r.pod(meshes) || !r.str(out.path_or_hint) || !r.vec(out.data) || !r.done())
+  std::uint8_t from_memory = 0, meshes = 0, lights_and_cameras = 0;
+  std::uint64_t result_limit_mb = 0;
+  if (!r.pod(from_memory) || !r.pod(out.sample_rate) || !r.pod(meshes) || !r.pod(lights_and_cameras) || !r.pod(result_limit_mb) ||
+      !r.str(out.path_or_hint) || !r.vec(out.data) || !r.done())
     return std::nullopt;
   out.from_memory = from_memory != 0;
   out.meshes = meshes != 0;
+  out.lights_and_cameras = lights_and_cameras != 0;
+  out.result_limit_mb = static_cast<std::size_t>(result_limit_mb);
   return out;
 }
 

@@ -55,6 +55,8 @@ int main(int argc, char** argv) {
   dq::ImportOptions options;
   options.sample_rate = request->sample_rate;
   options.meshes = request->meshes;
+  options.lights_and_cameras = request->lights_and_cameras;
+  options.result_limit_mb = request->result_limit_mb;
   options.isolate = false;
   const std::string source = request->from_memory ? "<memory." + request->path_or_hint + ">" : request->path_or_hint;
   const dq::Expected<dq::ImportedScene> result = [&]() -> dq::Expected<dq::ImportedScene> {

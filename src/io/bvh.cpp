@@ -6,10 +6,15 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <fstream>
+#include <functional>
 #include <limits>
 #include <optional>
-#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace dq {
 
@@ -37,17 +42,14 @@ class Lexer {
     while (pos_ < text_.size() && !is_space(text_[pos_]) && !is_newline(text_[pos_])) ++pos_;
     return {text_.substr(start, pos_ - start), line_};
   }
-  /// The tokens left on the current line (consumed), trimmed.
-  std::vector<Token> rest_of_line() {
-    std::vector<Token> out;
-    while (true) {
-      while (pos_ < text_.size() && is_space(text_[pos_])) ++pos_;
-      if (pos_ >= text_.size() || is_newline(text_[pos_])) break;
-      const std::size_t start = pos_;
-      while (pos_ < text_.size() && !is_space(text_[pos_]) && !is_newline(text_[pos_])) ++pos_;
-      out.push_back({text_.substr(start, pos_ - start), line_});
-    }
-    return out;
+  /// The next token on the current line (consumed); nothing at the end of the line. Lines are
+  /// read token by token, so a huge line costs no memory beyond what is kept of it.
+  std::optional<Token> next_on_line() {
+    while (pos_ < text_.size() && is_space(text_[pos_])) ++pos_;
+    if (pos_ >= text_.size() || is_newline(text_[pos_])) return std::nullopt;
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && !is_space(text_[pos_]) && !is_newline(text_[pos_])) ++pos_;
+    return Token{text_.substr(start, pos_ - start), line_};
   }
   /// Moves to the start of the next line that has any token; false at the end of the text.
   bool next_nonblank_line() {
@@ -55,6 +57,7 @@ class Lexer {
     return pos_ < text_.size();
   }
   std::size_t line() const noexcept { return line_; }
+  std::size_t bytes_left() const noexcept { return text_.size() - pos_; }
 
  private:
   static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
@@ -92,6 +95,30 @@ std::string quoted(std::string_view s) {
   for (char c : s.substr(0, 40)) out += (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) ? '?' : c;
   if (s.size() > 40) out += "...";
   return out + "'";
+}
+
+/// Well-formed UTF-8 (no overlong forms, no surrogates, at most U+10FFFF).
+bool valid_utf8(std::string_view s) {
+  std::size_t i = 0;
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    std::size_t n = 0;
+    char32_t cp = 0;
+    if (c < 0x80) { ++i; continue; }
+    if (c >= 0xC2 && c <= 0xDF) { n = 1; cp = c & 0x1F; }
+    else if (c >= 0xE0 && c <= 0xEF) { n = 2; cp = c & 0x0F; }
+    else if (c >= 0xF0 && c <= 0xF4) { n = 3; cp = c & 0x07; }
+    else return false;
+    for (std::size_t k = 1; k <= n; ++k) {
+      if (i + k >= s.size()) return false;
+      const auto d = static_cast<unsigned char>(s[i + k]);
+      if ((d & 0xC0) != 0x80) return false;
+      cp = (cp << 6) | (d & 0x3F);
+    }
+    if ((n == 2 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) || (n == 3 && (cp < 0x10000 || cp > 0x10FFFF))) return false;
+    i += n + 1;
+  }
+  return true;
 }
 
 std::optional<double> parse_double(std::string_view s) {
@@ -135,6 +162,7 @@ class Parser {
     }
     if (!iequals(t.text, "MOTION")) return fail(t, "expected 'ROOT' or 'MOTION'");
     if (auto e = parse_motion()) return *e;
+    name_end_sites();
     return std::move(bvh_);
   }
 
@@ -167,15 +195,19 @@ class Parser {
 
   /// ROOT/JOINT name on the rest of the line; a '{' may end that line.
   Failure read_name(const Token& keyword, std::string& name, bool& brace_seen) {
-    auto rest = lex_.rest_of_line();
-    brace_seen = !rest.empty() && rest.back().text == "{";
-    if (brace_seen) rest.pop_back();
-    if (rest.empty()) return fail_line(keyword.line, "expected a joint name after '" + std::string(keyword.text) + "'");
     name.clear();
-    for (std::size_t i = 0; i < rest.size(); ++i) {
-      if (i) name += ' ';
-      name += rest[i].text;
+    brace_seen = false;
+    while (const auto t = lex_.next_on_line()) {
+      if (brace_seen) name += name.empty() ? "{" : " {";  // a '{' that was not the last token
+      brace_seen = t->text == "{";
+      if (brace_seen) continue;
+      if (!name.empty()) name += ' ';
+      name += t->text;
+      if (name.size() > BvhLimits::max_name_bytes)
+        return fail_line(keyword.line, "a joint name longer than " + std::to_string(BvhLimits::max_name_bytes) + " bytes");
     }
+    if (name.empty()) return fail_line(keyword.line, "expected a joint name after '" + std::string(keyword.text) + "'");
+    if (!valid_utf8(name)) return fail_line(keyword.line, "a joint name must be UTF-8 text");
     // Braces delimit blocks: a name containing one could not be written back unambiguously.
     if (name.find_first_of("{}") != std::string::npos)
       return fail_line(keyword.line, "a joint name may not contain '{' or '}'");
@@ -210,7 +242,8 @@ class Parser {
       }
       j.first_channel = channels_;
       channels_ += j.channels.size();
-      if (bvh_.joints.size() >= kMaxJoints) return fail_line(count.line, "more than " + std::to_string(kMaxJoints) + " joints");
+      if (bvh_.joints.size() >= BvhLimits::max_joints)
+        return fail_line(count.line, "more than " + std::to_string(BvhLimits::max_joints) + " joints");
       bvh_.joints.push_back(std::move(j));
       stack.push_back(static_cast<int>(bvh_.joints.size()) - 1);
       // Children until this joint closes; closing may pop several levels.
@@ -223,7 +256,7 @@ class Parser {
         if (iequals(t.text, "End")) {
           if (auto e = expect_word("Site")) return e;
           BvhJoint end;
-          end.name = bvh_.joints[static_cast<std::size_t>(stack.back())].name + "_End";
+          // named once the whole hierarchy is known (name_end_sites)
           end.parent = stack.back();
           end.end_site = true;
           end.first_channel = channels_;
@@ -231,6 +264,8 @@ class Parser {
           if (auto e = expect_word("OFFSET")) return e;
           if (auto e = read_offset(end.offset)) return e;
           if (auto e = expect_word("}")) return e;
+          if (bvh_.joints.size() >= BvhLimits::max_joints)
+            return fail_line(lex_.line(), "more than " + std::to_string(BvhLimits::max_joints) + " joints");
           bvh_.joints.push_back(std::move(end));
           continue;
         }
@@ -252,7 +287,7 @@ class Parser {
       if (auto e = expect_word(":")) return e;
     }
     const Token count = lex_.next();
-    const auto frames = parse_count(count.text, kMaxFrames);
+    const auto frames = parse_count(count.text, BvhLimits::max_frames);
     if (!frames) return fail(count, "expected a frame count");
     // "Frame Time: t".
     if (auto e = expect_word("Frame")) return e;
@@ -266,49 +301,74 @@ class Parser {
     if (!frame_time || *frame_time <= 0) return fail(ft, "expected a positive frame time");
     bvh_.frame_count = *frames;
     bvh_.frame_time = *frame_time;
-    // One frame per line, exactly channels_ numbers each.
-    bvh_.motion.reserve(std::min<std::size_t>(*frames * channels_, 1u << 24));
-    for (std::size_t f = 0; f < *frames; ++f) {
-      if (channels_ == 0) break;
+    // One frame per line, exactly channels_ numbers each. The declared count is not trusted for
+    // allocation: every value takes at least two bytes of the text that is left.
+    bvh_.motion.reserve(std::min(*frames * channels_, lex_.bytes_left() / 2));
+    for (std::size_t f = 0; f < *frames && channels_ > 0; ++f) {
       if (!lex_.next_nonblank_line())
         return fail_line(lex_.line(), "expected " + std::to_string(*frames) + " frames, found " + std::to_string(f));
       const std::size_t line = lex_.line();
-      const auto values = lex_.rest_of_line();
-      if (values.size() != channels_)
-        return fail_line(line, "frame " + std::to_string(f) + " has " + std::to_string(values.size()) + " values, expected " +
-                                   std::to_string(channels_));
-      for (const Token& v : values) {
-        const auto x = parse_double(v.text);
-        if (!x) return fail(v, "expected a finite number in frame " + std::to_string(f));
+      std::size_t n = 0;
+      while (const auto v = lex_.next_on_line()) {
+        if (++n > channels_) continue;  // counted for the message, not kept
+        const auto x = parse_double(v->text);
+        if (!x) return fail(*v, "expected a finite number in frame " + std::to_string(f));
         bvh_.motion.push_back(*x);
       }
+      if (n != channels_)
+        return fail_line(line, "frame " + std::to_string(f) + " has " + std::to_string(n) + " values, expected " + std::to_string(channels_));
     }
     // Whole frame lines past the declared count (some published files have one) are ignored
     // with a warning that says where; anything else after the motion is an error.
     std::size_t extra_frames = 0, first_extra_line = 0;
     while (channels_ > 0 && lex_.next_nonblank_line()) {
       const std::size_t line = lex_.line();
-      const auto values = lex_.rest_of_line();
-      const bool is_frame = values.size() == channels_ &&
-                            std::all_of(values.begin(), values.end(), [](const Token& v) { return parse_double(v.text).has_value(); });
-      if (!is_frame) return fail(values.front(), "expected end of file after " + std::to_string(*frames) + " frames");
+      std::size_t n = 0;
+      std::optional<Token> first, bad;
+      while (const auto v = lex_.next_on_line()) {
+        if (!first) first = v;
+        if (!bad && !parse_double(v->text)) bad = v;
+        ++n;
+      }
+      if (n != channels_ || bad) return fail(*first, "expected end of file after " + frames_text(*frames));
       if (extra_frames++ == 0) first_extra_line = line;
     }
     if (extra_frames > 0)
       bvh_.warnings.push_back(std::string(source_) + ":" + std::to_string(first_extra_line) + ": " + std::to_string(extra_frames) +
                               " frame line(s) beyond the " + std::to_string(*frames) + " declared in 'Frames:' ignored");
     const Token extra = lex_.next();
-    if (!extra.text.empty()) return fail(extra, "expected end of file after " + std::to_string(*frames) + " frames");
+    if (!extra.text.empty()) return fail(extra, "expected end of file after " + frames_text(*frames));
     return std::nullopt;
   }
 
-  static constexpr std::size_t kMaxJoints = 1u << 16;
-  static constexpr std::size_t kMaxFrames = 1u << 26;
+  static std::string frames_text(std::size_t n) { return std::to_string(n) + (n == 1 ? " frame" : " frames"); }
+
+  /// End Sites are named "<parent>_End"; where a joint of the file already has that name (or an
+  /// earlier End Site took it), "<parent>_End_2", "_3", ...: End Site names never collide.
+  void name_end_sites() {
+    std::unordered_set<std::string> taken;
+    for (const BvhJoint& j : bvh_.joints)
+      if (!j.end_site) taken.insert(j.name);
+    std::unordered_map<std::string, std::size_t> next_suffix;  // per base name: amortized linear
+    for (BvhJoint& j : bvh_.joints) {
+      if (!j.end_site) continue;
+      const std::string base = bvh_.joints[static_cast<std::size_t>(j.parent)].name + "_End";
+      std::size_t& k = next_suffix[base];
+      std::string name = k == 0 ? base : base + "_" + std::to_string(k);
+      while (taken.count(name)) name = base + "_" + std::to_string(k = std::max<std::size_t>(k + 1, 2));
+      k = std::max<std::size_t>(k + 1, 2);
+      taken.insert(name);
+      j.name = std::move(name);
+    }
+  }
+
   Lexer lex_;
   std::string_view source_;
   BvhFile bvh_;
   std::size_t channels_ = 0;
 };
+
+constexpr std::size_t kMaxIndent = 32;
 
 void append_number(std::string& out, double v) {
   std::array<char, 32> buf{};
@@ -346,18 +406,46 @@ std::size_t BvhFile::channel_count() const noexcept {
 Expected<BvhFile> read_bvh(std::string_view text, std::string_view source) { return Parser(text, source).parse(); }
 
 Expected<BvhFile> read_bvh_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Error{path.string() + ": cannot open for reading: " + std::strerror(errno)};
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) return Error{path.string() + ": read error"};
-  return read_bvh(ss.str(), path.string());
+  const std::string name = path.string();
+  // Non-blocking open: a FIFO must not hang us before we can see that it is one.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+  if (fd < 0) return Error{name + ": cannot open for reading: " + std::strerror(errno)};
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return Error{name + ": cannot open for reading: " + std::strerror(errno)};
+  if (S_ISDIR(st.st_mode)) return Error{name + ": is a directory"};
+  if (!S_ISREG(st.st_mode)) return Error{name + ": is not a regular file (a device, FIFO or socket)"};
+  const auto size = static_cast<std::size_t>(st.st_size);
+  if (size > BvhLimits::max_file_bytes)
+    return Error{name + ": " + std::to_string(size) + " bytes, more than the " + std::to_string(BvhLimits::max_file_bytes) +
+                 " a BVH file may have"};
+  std::string text(size, '\0');
+  std::size_t done = 0;
+  while (done < size) {  // a file that shrinks meanwhile ends early; one that grows is read as it was
+    const ssize_t n = ::read(fd, text.data() + done, size - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return Error{name + ": read error: " + std::strerror(errno)};
+    if (n == 0) break;
+    done += static_cast<std::size_t>(n);
+  }
+  text.resize(done);
+  return read_bvh(text, name);
 }
 
 std::string write_bvh(const BvhFile& bvh) {
+  std::string text;
+  write_bvh(bvh, [&](std::string_view chunk) { text += chunk; });
+  return text;
+}
+
+void write_bvh(const BvhFile& bvh, const std::function<void(std::string_view)>& sink) {
   std::string out = "HIERARCHY\n";
   std::vector<int> open;  // joints whose block is open
-  auto indent = [&](std::size_t depth) { out.append(depth, '\t'); };
+  // Indentation is capped, so that the text stays linear in the number of joints at any depth.
+  auto indent = [&](std::size_t depth) { out.append(std::min(depth, kMaxIndent), '\t'); };
   for (std::size_t i = 0; i < bvh.joints.size(); ++i) {
     const BvhJoint& j = bvh.joints[i];
     while (!open.empty() && open.back() != j.parent) {  // close finished subtrees
@@ -406,8 +494,9 @@ std::string write_bvh(const BvhFile& bvh) {
       append_number(out, bvh.motion[f * n + c]);
     }
     out += '\n';
+    if (out.size() >= (1u << 16)) sink(std::exchange(out, {}));
   }
-  return out;
+  sink(out);
 }
 
 namespace {
@@ -425,7 +514,15 @@ Vec3<double> joint_translation(const BvhJoint& j, std::span<const double> frame)
 }
 }  // namespace
 
-BvhFile with_rotation_order(const BvhFile& bvh, EulerOrder order) {
+namespace {
+std::optional<Error> check_bvh_order(EulerOrder order) {
+  if (!is_proper_euler(order)) return std::nullopt;
+  return Error{std::string(to_string(order)) + " repeats an axis, which BVH channels cannot (use XYZ, XZY, YXZ, YZX, ZXY or ZYX)"};
+}
+}  // namespace
+
+Expected<BvhFile> with_rotation_order(const BvhFile& bvh, EulerOrder order) {
+  if (auto e = check_bvh_order(order)) return *e;
   const auto axes = euler_axes(order);
   BvhFile out = bvh;
   out.motion.clear();
@@ -474,11 +571,41 @@ DualQuaternion<double> bvh_rest_transform(const BvhFile& bvh, std::size_t joint)
   return DualQuaternion<double>::from_translation(bvh.joints[joint].offset);
 }
 
-BvhFile to_bvh(const Skeleton& skeleton, const Animation& animation, EulerOrder order) {
+Expected<BvhFile> to_bvh(const Skeleton& skeleton, const Animation& given, EulerOrder order) {
+  if (auto e = check_bvh_order(order)) return *e;
+  // A skeleton without animation is written with its rest pose as its one frame: OFFSET holds
+  // only translations, so the rest rotations would be lost otherwise.
+  Animation rest_pose;
+  if (given.frame_count == 0) {
+    rest_pose.frame_time = given.frame_time;
+    rest_pose.frame_count = 1;
+    rest_pose.joint_count = skeleton.size();
+    rest_pose.locals.assign(skeleton.rest_pose().begin(), skeleton.rest_pose().end());
+  }
+  const Animation& animation = given.frame_count == 0 ? rest_pose : given;
   BvhFile out;
   out.frame_count = animation.frame_count;
   out.frame_time = animation.frame_time > 0 ? animation.frame_time : 1.0 / 30;
   const std::size_t n = skeleton.size();
+  // Names as BVH can hold them (no whitespace or braces, UTF-8 by the caller), made unique again.
+  std::unordered_set<std::string> taken;
+  std::vector<std::string> names(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    std::string& name = names[j];
+    name = skeleton.names()[j];
+    if (name.size() > BvhLimits::max_name_bytes - 16) name.resize(BvhLimits::max_name_bytes - 16);  // room for a suffix
+    const bool utf8 = valid_utf8(name);
+    std::replace_if(name.begin(), name.end(), [utf8](unsigned char c) { return std::isspace(c) || c == '{' || c == '}' || c < 0x20 || (!utf8 && c >= 0x80); }, '_');
+  }
+  for (std::size_t j = 0; j < n; ++j)
+    if (names[j] == skeleton.names()[j]) taken.insert(names[j]);  // unchanged names keep priority
+  for (std::size_t j = 0; j < n; ++j) {
+    if (names[j] == skeleton.names()[j]) continue;
+    std::string candidate = names[j];
+    for (std::size_t k = 2; taken.count(candidate); ++k) candidate = names[j] + "_" + std::to_string(k);
+    taken.insert(candidate);
+    names[j] = std::move(candidate);
+  }
   const auto axes = euler_axes(order);
   std::vector<bool> moves(n, false);
   for (std::size_t j = 0; j < n; ++j) {
@@ -489,8 +616,7 @@ BvhFile to_bvh(const Skeleton& skeleton, const Animation& animation, EulerOrder 
   std::size_t next = 0;
   for (std::size_t j = 0; j < n; ++j) {
     BvhJoint b;
-    b.name = skeleton.names()[j];
-    std::replace_if(b.name.begin(), b.name.end(), [](unsigned char c) { return std::isspace(c) || c == '{' || c == '}'; }, '_');
+    b.name = std::move(names[j]);
     b.parent = skeleton.parents()[j];
     b.offset = skeleton.rest_pose()[j].translation();
     b.end_site = skeleton.is_end_site(j);
@@ -533,9 +659,15 @@ Animation bvh_animation(const BvhFile& bvh, const Skeleton& skeleton) {
   anim.joint_count = skeleton.size();
   anim.locals.resize(anim.frame_count * anim.joint_count);
   const auto raw = skeleton.raw_indices();
-  for (std::size_t f = 0; f < bvh.frame_count; ++f)
-    for (std::size_t j = 0; j < skeleton.size(); ++j)
-      anim.locals[f * anim.joint_count + j] = bvh_local_transform(bvh, static_cast<std::size_t>(raw[j]), f);
+  const std::size_t channels = bvh.channel_count();  // once: linear in frames × joints
+  for (std::size_t f = 0; f < bvh.frame_count; ++f) {
+    const std::span<const double> values = std::span(bvh.motion).subspan(f * channels, channels);
+    for (std::size_t j = 0; j < skeleton.size(); ++j) {
+      const BvhJoint& b = bvh.joints[static_cast<std::size_t>(raw[j])];
+      anim.locals[f * anim.joint_count + j] =
+          DualQuaternion<double>::from_rotation_translation(joint_rotation(b, values), joint_translation(b, values));
+    }
+  }
   return anim;
 }
 

@@ -1,54 +1,207 @@
 #include "dq/io/file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
+#include <atomic>
 #include <cerrno>
+#include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <random>
-#include <string>
+#include <utility>
 
 namespace dq {
 
-Status write_file_atomically(const std::filesystem::path& path, std::string_view contents, Overwrite overwrite) {
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (std::filesystem::exists(status)) {
-    if (std::filesystem::is_directory(status)) return Error{path.string() + ": is a directory"};
-    if (overwrite == Overwrite::refuse) return Error{path.string() + ": already exists (use --force to replace it)"};
+namespace {
+
+// Temporary files in progress, for the signal handler: fixed storage (no allocation in the
+// handler), a slot is claimed with a compare-and-swap (0 free, 1 being filled, 2 live).
+struct Slot {
+  std::atomic<int> state{0};
+  char path[4096]{};
+};
+std::array<Slot, 64> g_slots;
+
+int claim_slot(const std::filesystem::path& temporary) {
+  const std::string& s = temporary.native();
+  if (s.size() >= sizeof(Slot::path)) return -1;
+  for (std::size_t i = 0; i < g_slots.size(); ++i) {
+    int expected = 0;
+    if (g_slots[i].state.compare_exchange_strong(expected, 1)) {
+      std::memcpy(g_slots[i].path, s.c_str(), s.size() + 1);
+      g_slots[i].state.store(2);
+      return static_cast<int>(i);
+    }
+  }
+  return -1;  // more than 64 files at once: still written safely, just not cleaned on a signal
+}
+void release_slot(int slot) {
+  if (slot >= 0) g_slots[static_cast<std::size_t>(slot)].state.store(0);
+}
+
+extern "C" void remove_temporaries_and_die(int sig) {
+  for (Slot& s : g_slots)
+    if (s.state.load() == 2) ::unlink(s.path);
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+std::string reason(int error) { return std::strerror(error); }
+
+}  // namespace
+
+void remove_temporary_files_on_signals() {
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGXFSZ}) {
+    struct sigaction old {};
+    if (::sigaction(sig, nullptr, &old) != 0 || old.sa_handler != SIG_DFL) continue;  // e.g. nohup's SIGHUP
+    struct sigaction action {};
+    action.sa_handler = remove_temporaries_and_die;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(sig, &action, nullptr);
+  }
+}
+
+Expected<OutputFile> OutputFile::create(const std::filesystem::path& path, Overwrite overwrite) {
+  const std::string name = path.string();
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) return Error{name + ": is a directory"};
+    if (overwrite == Overwrite::refuse) return Error{name + ": already exists (use --force to replace it)"};
+    if (!S_ISREG(st.st_mode))
+      return Error{name + ": is not a regular file (a symbolic link, device, FIFO or socket); it is never replaced"};
+  } else if (errno != ENOENT) {
+    return Error{name + ": " + reason(errno)};
   }
   const std::filesystem::path dir = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
-  // A unique temporary name in the same directory, so that rename() is atomic.
+  OutputFile out;
+  out.path_ = path;
+  out.overwrite_ = overwrite;
   std::random_device rd;
-  const std::filesystem::path temporary = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd()));
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) return Error{temporary.string() + ": cannot create: " + std::strerror(errno)};
-  auto fail = [&](const std::string& what) {
-    const int saved = errno;
-    ::close(fd);
-    ::unlink(temporary.c_str());
-    return Error{path.string() + ": " + what + ": " + std::strerror(saved)};
-  };
+  for (int attempt = 0; attempt < 16 && out.fd_ < 0; ++attempt) {
+    out.temporary_ = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd()));
+    out.fd_ = ::open(out.temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (out.fd_ < 0 && errno != EEXIST) break;
+  }
+  if (out.fd_ < 0) return Error{name + ": cannot create a file in " + dir.string() + ": " + reason(errno)};
+  out.slot_ = claim_slot(out.temporary_);
+  return out;
+}
+
+OutputFile::OutputFile(OutputFile&& o) noexcept
+    : path_(std::move(o.path_)), temporary_(std::move(o.temporary_)), overwrite_(o.overwrite_), fd_(o.fd_), slot_(o.slot_),
+      buffer_(std::move(o.buffer_)), error_(std::move(o.error_)) {
+  o.fd_ = -1;
+  o.slot_ = -1;
+}
+
+OutputFile& OutputFile::operator=(OutputFile&& o) noexcept {
+  if (this != &o) {
+    discard();
+    path_ = std::move(o.path_);
+    temporary_ = std::move(o.temporary_);
+    overwrite_ = o.overwrite_;
+    fd_ = std::exchange(o.fd_, -1);
+    slot_ = std::exchange(o.slot_, -1);
+    buffer_ = std::move(o.buffer_);
+    error_ = std::move(o.error_);
+  }
+  return *this;
+}
+
+OutputFile::~OutputFile() { discard(); }
+
+void OutputFile::discard() noexcept {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    ::unlink(temporary_.c_str());
+    fd_ = -1;
+  }
+  release_slot(slot_);
+  slot_ = -1;
+}
+
+Status OutputFile::flush() {
+  if (!error_.empty()) return Error{error_};
+  if (fd_ < 0) return Error{path_.string() + ": already closed"};
   std::size_t done = 0;
-  while (done < contents.size()) {
-    const ssize_t n = ::write(fd, contents.data() + done, contents.size() - done);
+  while (done < buffer_.size()) {
+    const ssize_t n = ::write(fd_, buffer_.data() + done, buffer_.size() - done);
     if (n < 0) {
       if (errno == EINTR) continue;
-      return fail("write failed");
+      error_ = path_.string() + ": write failed: " + reason(errno);
+      return Error{error_};
     }
     done += static_cast<std::size_t>(n);
   }
-  if (::fsync(fd) != 0) return fail("fsync failed");
-  if (::close(fd) != 0) {
-    ::unlink(temporary.c_str());
-    return Error{path.string() + ": close failed: " + std::strerror(errno)};
-  }
-  if (::rename(temporary.c_str(), path.c_str()) != 0) {
-    const int saved = errno;
-    ::unlink(temporary.c_str());
-    return Error{path.string() + ": cannot replace: " + std::strerror(saved)};
-  }
+  buffer_.clear();
   return {};
+}
+
+Status OutputFile::write(std::string_view data) {
+  if (!error_.empty()) return Error{error_};
+  buffer_.append(data);
+  if (buffer_.size() >= (1u << 20)) return flush();
+  return {};
+}
+
+Status OutputFile::commit() {
+  if (auto s = flush(); !s) {
+    discard();
+    return s;
+  }
+  const std::string name = path_.string();
+  auto fail = [&](const std::string& what, int error) {
+    discard();
+    return Error{name + ": " + what + ": " + reason(error)};
+  };
+  struct stat old {};
+  if (overwrite_ == Overwrite::allow && ::lstat(path_.c_str(), &old) == 0) {
+    if (!S_ISREG(old.st_mode)) {
+      discard();
+      return Error{name + ": is not a regular file (a symbolic link, device, FIFO or socket); it is never replaced"};
+    }
+    if (::fchmod(fd_, old.st_mode & 07777) != 0) return fail("cannot keep the permissions", errno);
+    (void)!::fchown(fd_, old.st_uid, old.st_gid);  // keeps the owner where allowed (root); else ours
+  }
+  if (::fsync(fd_) != 0) return fail("fsync failed", errno);
+  const int fd = std::exchange(fd_, -1);
+  if (::close(fd) != 0) {
+    fd_ = -1;
+    const int e = errno;
+    ::unlink(temporary_.c_str());
+    release_slot(std::exchange(slot_, -1));
+    return Error{name + ": close failed: " + reason(e)};
+  }
+  auto finish = [&](int rc, int error) -> Status {
+    if (rc != 0) ::unlink(temporary_.c_str());
+    release_slot(std::exchange(slot_, -1));
+    if (rc == 0) return {};
+    if (error == EEXIST) return Error{name + ": already exists (use --force to replace it)"};
+    return Error{name + ": cannot " + (overwrite_ == Overwrite::allow ? "replace" : "create") + ": " + reason(error)};
+  };
+  if (overwrite_ == Overwrite::allow) {
+    const int rc = ::rename(temporary_.c_str(), path_.c_str());
+    return finish(rc, errno);
+  }
+  // Exclusive: never replaces a file that appeared meanwhile (another writer).
+  int rc = ::renameat2(AT_FDCWD, temporary_.c_str(), AT_FDCWD, path_.c_str(), RENAME_NOREPLACE);
+  if (rc != 0 && (errno == EINVAL || errno == ENOSYS || errno == ENOTSUP)) {  // file system without it
+    rc = ::link(temporary_.c_str(), path_.c_str());
+    const int e = errno;
+    ::unlink(temporary_.c_str());
+    return finish(rc, e);
+  }
+  return finish(rc, errno);
+}
+
+Status write_file_atomically(const std::filesystem::path& path, std::string_view contents, Overwrite overwrite) {
+  Expected<OutputFile> out = OutputFile::create(path, overwrite);
+  if (!out) return out.error();
+  if (auto s = out->write(contents); !s) return s;
+  return out->commit();
 }
 
 }  // namespace dq

@@ -1,31 +1,89 @@
 #include "dq/io/motion.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+
+#include "dq/anim/animation.hpp"
 
 namespace dq {
 
-bool is_bvh_path(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".bvh";
+std::size_t resampled_frame_count(double seconds, double rate) {
+  return static_cast<std::size_t>(std::ceil(seconds * rate - 1e-9)) + 1;
 }
 
-Expected<Motion> load_motion(const std::filesystem::path& path) {
-  if (!is_bvh_path(path))
-    return Error{path.string() + ": not a BVH file (other formats are read by dq::import_motion, in dqkit::import, built with Assimp)"};
-  Expected<BvhFile> bvh = read_bvh_file(path);
+bool is_bvh_file(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+  if (fd < 0) return false;
+  std::error_code ec;
+  char head[256];
+  const ssize_t n = std::filesystem::is_regular_file(path, ec) ? ::read(fd, head, sizeof head) : -1;
+  ::close(fd);
+  return n > 0 && looks_like_bvh(std::string_view(head, static_cast<std::size_t>(n)));
+}
+
+bool looks_like_bvh(std::string_view s) {
+  if (s.starts_with("\xEF\xBB\xBF")) s.remove_prefix(3);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  if (s.size() < 9) return false;
+  return std::equal(s.begin(), s.begin() + 9, "HIERARCHY", [](char a, char b) { return std::toupper(static_cast<unsigned char>(a)) == b; });
+}
+
+namespace {
+
+Status check_budget(std::size_t frames, std::size_t joints, const MotionOptions& options, const std::string& source) {
+  const double bytes = static_cast<double>(frames) * static_cast<double>(joints) * sizeof(DualQuaternion<double>);
+  if (bytes <= static_cast<double>(options.memory_limit_mb) * 1048576.0) return {};
+  return Error{source + ": " + std::to_string(frames) + " frames of " + std::to_string(joints) + " joints need " +
+               std::to_string(static_cast<long long>(bytes / 1048576.0)) + " MB, more than the " + std::to_string(options.memory_limit_mb) +
+               " MB allowed"};
+}
+
+Expected<Motion> from_bvh(Expected<BvhFile> bvh, const std::string& source, const MotionOptions& options) {
   if (!bvh) return bvh.error();
   Expected<Skeleton> skeleton = bvh_skeleton(*bvh);
-  if (!skeleton) return Error{path.string() + ": " + skeleton.error().message};
+  if (!skeleton) return Error{source + ": " + skeleton.error().message};
   Motion m;
   m.format = "bvh";
   m.skeleton = std::move(*skeleton);
+  const bool resample = options.sample_rate > 0;
+  if (resample && !(options.sample_rate <= 1000)) return Error{source + ": the sample rate must be in (0, 1000] Hz"};
+  if (auto s = check_budget(bvh->frame_count, m.skeleton.size(), options, source); !s) return s.error();
   m.animation = bvh_animation(*bvh, m.skeleton);
+  if (resample && m.animation.frame_count > 0) {
+    const double duration = m.animation.duration();
+    const std::size_t frames = resampled_frame_count(duration, options.sample_rate);
+    if (auto s = check_budget(frames, m.skeleton.size(), options, source); !s) return s.error();
+    Animation out;
+    out.frame_time = 1 / options.sample_rate;
+    out.frame_count = frames;
+    out.joint_count = m.skeleton.size();
+    out.locals.resize(frames * out.joint_count);
+    for (std::size_t f = 0; f < frames; ++f)
+      sample<double>(m.animation, std::min(static_cast<double>(f) * out.frame_time, duration), Interpolation::screw, WrapMode::clamp,
+                     std::span(out.locals).subspan(f * out.joint_count, out.joint_count));
+    m.animation = std::move(out);
+  }
   m.animation_count = 1;
   m.warnings = bvh->warnings;
   m.bvh = std::move(*bvh);
   return m;
+}
+
+}  // namespace
+
+Expected<Motion> load_motion(const std::filesystem::path& path, const MotionOptions& options) {
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec) && !is_bvh_file(path))
+    return Error{path.string() + ": not a BVH file (other formats are read by dq::import_motion, in dqkit::import, built with Assimp)"};
+  return from_bvh(read_bvh_file(path), path.string(), options);  // missing files, directories, FIFOs: its errors
+}
+
+Expected<Motion> read_motion(std::string_view bvh_text, std::string_view source, const MotionOptions& options) {
+  return from_bvh(read_bvh(bvh_text, source), std::string(source), options);
 }
 
 }  // namespace dq

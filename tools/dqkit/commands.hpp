@@ -1,42 +1,39 @@
-// The dqkit command-line tool's commands. Each returns the process exit code and writes its
-// errors to stderr as "dqkit: <what>".
+// The commands of the dqkit tool, in ONE table (commands.cpp). Each command lives in its own file
+// (info.cpp, fk.cpp, convert.cpp, ...) and provides a `define_<name>` function: it adds the
+// command's options to its CLI11 subcommand and returns what runs it (with the parsed options).
+//
+// To add a command (skin, render, fix-feet, ...): write tools/dqkit/<name>.cpp with
+//   dq::cli::Runner dq::cli::define_<name>(CLI::App& command) { ... }
+// declare it below, add one line to kCommands in commands.cpp, and the file to tools/CMakeLists.txt
+// (dqkit_cli_commands). Helpers for inputs, outputs, CSV/JSON and errors: common.hpp.
 #pragma once
 
-#include <string>
-#include <vector>
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <span>
+#include <string_view>
 
 namespace dq::cli {
 
-struct InfoArgs {
-  std::string file;
-  std::size_t animation = 0;
-  double import_timeout = 120;
-};
-int info(const InfoArgs& args);
+/// Runs a parsed command; returns the exit code (errors: throw Failure, see common.hpp).
+using Runner = std::function<int()>;
 
-struct FkArgs {
-  std::string file;
-  std::string frames;  ///< "0,1,100"; empty: frame 0
-  bool all = false;
-  std::string format = "csv";
-  std::string output;  ///< empty: stdout
-  bool force = false;
-  std::size_t animation = 0;
-  double import_timeout = 120;
+struct Command {
+  std::string_view name;
+  std::string_view description;
+  Runner (*define)(CLI::App& command);
 };
-int fk(const FkArgs& args);
 
-struct ConvertArgs {
-  std::string input, output;
-  std::string rotation_order;  ///< empty: keep (BVH) or ZXY
-  bool force = false;
-  std::size_t animation = 0;
-  double rate = 30;
-  double import_timeout = 120;
-};
-int convert(const ConvertArgs& args);
+/// Every command, in the order `dqkit --help` lists them.
+std::span<const Command> commands();
 
-/// Parses "0,1,100" into frame numbers below `count`; the error says which item is wrong.
-std::vector<std::size_t> parse_frame_list(const std::string& text, std::size_t count, std::string& error);
+Runner define_info(CLI::App& command);
+Runner define_fk(CLI::App& command);
+Runner define_convert(CLI::App& command);
+Runner define_skin(CLI::App& command);    // skin.cpp (with dqkit::skin and dqkit::import)
+Runner define_render(CLI::App& command);  // render.cpp (with dqkit::render as well)
+#if defined(DQKIT_HAVE_IK)
+Runner define_fix_feet(CLI::App& command);
+#endif
 
 }  // namespace dq::cli

@@ -5,11 +5,13 @@
 // Conventions: `CHANNELS ... Zrotation Xrotation Yrotation` means the local rotation
 // Rz(a) Rx(b) Ry(c), angles in the order listed (intrinsic), in degrees in the file and radians in
 // dqkit; the local transform is translate(OFFSET + position channels) · rotation. End Sites are
-// joints without channels, named "<parent name>_End". Frames are numbered from 0.
+// joints without channels, named "<parent name>_End" (or "<parent name>_End_2", "_3", ... where
+// the file has a joint of that name, so that names never collide). Frames are numbered from 0.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -25,6 +27,15 @@ namespace dq {
 enum class BvhChannel : std::uint8_t { Xposition, Yposition, Zposition, Xrotation, Yrotation, Zrotation };
 
 std::string_view to_string(BvhChannel c) noexcept;
+
+/// What the reader accepts: larger inputs are errors that say which limit was hit. Every cost of
+/// reading is linear in the size of the text (docs/reliability.md has the measurements).
+struct BvhLimits {
+  static constexpr std::size_t max_file_bytes = std::size_t{1} << 30;  ///< read_bvh_file: 1 GiB
+  static constexpr std::size_t max_joints = std::size_t{1} << 16;      ///< End Sites included
+  static constexpr std::size_t max_frames = std::size_t{1} << 26;      ///< declared in 'Frames:'
+  static constexpr std::size_t max_name_bytes = 1024;                  ///< a joint name (UTF-8)
+};
 
 struct BvhJoint {
   std::string name;
@@ -48,21 +59,26 @@ struct BvhFile {
 
 /// Parses BVH text. `source` names the input in error messages ("source:line: what was expected").
 /// Never throws or crashes on malformed input; rejects non-finite numbers, channel counts other
-/// than 0–6, unknown channel names, and motion data with fewer frames than the header declares
+/// than 0–6, unknown channel names, joint names that are not UTF-8 or contain braces, inputs
+/// beyond BvhLimits, and motion data with fewer frames than the header declares
 /// or frames of the wrong length. Whole frames beyond the declared count are ignored with a
 /// warning (BvhFile::warnings), as some published files have one.
 Expected<BvhFile> read_bvh(std::string_view text, std::string_view source = "<bvh>");
-/// Reads and parses a file; errors name the file.
+/// Reads and parses a regular file of at most BvhLimits::max_file_bytes (a directory, device,
+/// FIFO or socket is an error, found without blocking); errors name the file.
 Expected<BvhFile> read_bvh_file(const std::filesystem::path& path);
 
 /// The BVH text of a file: numbers in shortest round-trip form, so reading it back gives the same
 /// values bit for bit; tabs for indentation, '\n' line endings.
 std::string write_bvh(const BvhFile& bvh);
+/// The same text in pieces of about 64 KiB, for writing a long capture without holding it whole.
+void write_bvh(const BvhFile& bvh, const std::function<void(std::string_view)>& sink);
 
 /// Changes every joint's rotation channels to `order` (intrinsic, as BVH means it), converting
 /// each frame's angles so that every local rotation is the same (to rounding). Joints with fewer
 /// than three rotation channels get three. Position channels are kept, before the rotations.
-BvhFile with_rotation_order(const BvhFile& bvh, EulerOrder order);
+/// Only the six Tait–Bryan orders are BVH orders: a proper Euler order (XYX, ...) is an error.
+Expected<BvhFile> with_rotation_order(const BvhFile& bvh, EulerOrder order);
 
 /// The local transform of joint j in frame f (translate(OFFSET + positions) · rotation).
 DualQuaternion<double> bvh_local_transform(const BvhFile& bvh, std::size_t joint, std::size_t frame);
@@ -72,12 +88,15 @@ DualQuaternion<double> bvh_rest_transform(const BvhFile& bvh, std::size_t joint)
 /// A BVH file for a skeleton and its animation (from any source): every joint gets rotation
 /// channels in `order` (degrees), the roots and every joint whose translation moves also get
 /// position channels; OFFSET is the rest translation. Names have whitespace replaced by '_'.
-/// End Sites (skeleton joints marked so) become End Site blocks.
-BvhFile to_bvh(const Skeleton& skeleton, const Animation& animation, EulerOrder order = EulerOrder::ZXY);
+/// End Sites (skeleton joints marked so) become End Site blocks; names changed by the replacement
+/// are made unique again (suffix "_2", ...). A skeleton without animation is written with one
+/// frame, its rest pose (OFFSET alone cannot hold rest rotations). Proper Euler orders are errors.
+Expected<BvhFile> to_bvh(const Skeleton& skeleton, const Animation& animation, EulerOrder order = EulerOrder::ZXY);
 
 /// The skeleton of a BVH file (joint order preserved; End Sites included).
 Expected<Skeleton> bvh_skeleton(const BvhFile& bvh);
-/// Every frame's local transforms, in skeleton order.
+/// Every frame's local transforms, in skeleton order (frame_count × joints × 64 bytes: callers that
+/// bound memory check that first, as load_motion does).
 Animation bvh_animation(const BvhFile& bvh, const Skeleton& skeleton);
 
 }  // namespace dq

@@ -1,9 +1,11 @@
 // Safe file writing: the contents go to a temporary file beside the target, which is then renamed
-// over it, so a failure at any point leaves what was there before intact. An existing target is
-// only replaced when the caller says so.
+// over it (or linked to it exclusively), so a failure at any point leaves what was there before
+// intact. An existing target is only replaced when the caller says so, and only if it is a regular
+// file; its permissions are kept.
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <string_view>
 
 #include "dq/util/expected.hpp"
@@ -12,7 +14,46 @@ namespace dq {
 
 enum class Overwrite { refuse, allow };
 
-/// Writes `contents` to `path` atomically (temporary file + fsync + rename). Errors name the file.
+/// A file being written: data goes to a temporary file in the target's directory; commit() makes
+/// it the target. Destroyed without commit() (an error, an exception), the temporary file is
+/// removed and the target is untouched.
+///  - Overwrite::refuse: commit() creates the target exclusively (renameat2 RENAME_NOREPLACE, or
+///    link): of two writers racing to a new path, one wins and the other gets "already exists".
+///  - Overwrite::allow: only a regular file is replaced (never a directory, symbolic link, device,
+///    FIFO or socket); the replacement gets the old file's permission bits (and owner, if allowed).
+/// Errors name the target, never the temporary file.
+class OutputFile {
+ public:
+  static Expected<OutputFile> create(const std::filesystem::path& path, Overwrite overwrite);
+  OutputFile(OutputFile&& other) noexcept;
+  OutputFile& operator=(OutputFile&& other) noexcept;
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+  ~OutputFile();
+
+  /// Appends (buffered). After an error, later writes and commit() fail too.
+  Status write(std::string_view data);
+  /// Flushes, fsyncs and moves the file into place.
+  Status commit();
+
+ private:
+  OutputFile() = default;
+  Status flush();
+  void discard() noexcept;
+  std::filesystem::path path_, temporary_;
+  Overwrite overwrite_ = Overwrite::refuse;
+  int fd_ = -1;
+  int slot_ = -1;  // in the table of temporary files removed on a signal
+  std::string buffer_;
+  std::string error_;
+};
+
+/// Writes `contents` to `path` (OutputFile: create, write, commit). Errors name the file.
 Status write_file_atomically(const std::filesystem::path& path, std::string_view contents, Overwrite overwrite);
+
+/// Makes SIGINT, SIGTERM, SIGHUP, SIGQUIT and SIGXFSZ remove the temporary files of every
+/// OutputFile in progress before the process dies of the signal (handlers are installed only for
+/// signals whose disposition is the default; a program calls this once, e.g. from main()).
+void remove_temporary_files_on_signals();
 
 }  // namespace dq

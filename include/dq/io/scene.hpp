@@ -24,7 +24,8 @@ namespace dq {
 
 struct ImportOptions {
   double sample_rate = 30;  ///< frames per second for resampled animations (0 < rate ≤ 1000)
-  bool meshes = true;       ///< import mesh geometry and skins
+  bool meshes = true;       ///< import mesh geometry and skins (a broken mesh is left out with a warning)
+  bool lights_and_cameras = false;  ///< keep light and camera nodes (leaves without meshes) as joints
   /// Run Assimp in a helper process. Assimp 5.2 crashes, hangs or exhausts memory on some
   /// malformed files (found by dqkit's fuzzing, docs/reliability.md); isolated, such a file gives
   /// an Error ("the importer crashed on this file") instead of taking the program down.
@@ -43,8 +44,8 @@ Expected<ImportedScene> import_scene(const std::filesystem::path& path, const Im
 Expected<ImportedScene> import_scene_from_memory(std::span<const std::uint8_t> data, const std::string& hint,
                                                  const ImportOptions& options = {});
 
-/// load_motion for every format: BVH through dqkit's own exact reader (load_motion), every other
-/// format through import_scene (isolated).
+/// load_motion for every format: BVH (recognized by content, is_bvh_file) through dqkit's own
+/// exact reader (load_motion), every other format through import_scene (isolated).
 Expected<Motion> import_motion(const std::filesystem::path& path, const MotionOptions& options = {});
 
 }  // namespace dq
