@@ -113,6 +113,33 @@ TEST(KinematicModel, ScrewJacobianEqualsForwardModeAndFiniteDifferences) {
   check_jacobian(balls, random_parameters(balls, rng, 2.0));
 }
 
+TEST(KinematicModel, BipedPoseIsGenericOverTheScalar) {
+  // Biped::pose with Dual<double> values: the derivative of each joint's transform by one DOF,
+  // against central differences of the double version.
+  const Biped& biped = Biped::instance();
+  std::mt19937_64 rng(17);
+  const auto q = random_parameters(KinematicModel::biped(), rng);
+  for (std::size_t i = 0; i < Biped::dofs; i += 5) {
+    std::vector<Dual<double>> qd(q.begin(), q.end());
+    qd[i].dual = 1;
+    std::vector<DualQuaternion<Dual<double>>> d(Biped::links);
+    biped.pose<Dual<double>>(qd, d);
+    std::vector<double> qp = q, qm = q;
+    qp[i] += 1e-6;
+    qm[i] -= 1e-6;
+    std::vector<DualQuaternion<double>> p(Biped::links), m(Biped::links);
+    biped.pose(qp, p);
+    biped.pose(qm, m);
+    for (std::size_t j = 0; j < Biped::links; ++j) {
+      const auto fp = parts(p[j]), fm = parts(m[j]);
+      const DualQuaternion<Dual<double>>& x = d[j];
+      const std::array<double, 8> fwd{x.real.w.dual, x.real.x.dual, x.real.y.dual, x.real.z.dual,
+                                       x.dual.w.dual, x.dual.x.dual, x.dual.y.dual, x.dual.z.dual};
+      for (std::size_t c = 0; c < 8; ++c) EXPECT_NEAR(fwd[c], (fp[c] - fm[c]) / 2e-6, 1e-8) << "dof " << i << " joint " << j;
+    }
+  }
+}
+
 TEST(KinematicModel, BipedModelMatchesTheBipedRig) {
   const Biped& biped = Biped::instance();
   const KinematicModel& m = KinematicModel::biped();

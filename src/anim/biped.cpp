@@ -105,25 +105,6 @@ const Biped& Biped::instance() {
   return biped;
 }
 
-void Biped::pose(std::span<const double> q, std::span<DualQuaternion<double>> local) const {
-  std::array<Vec3<double>, links> translation{};
-  std::array<Quaternion<double>, links> rotation{};
-  for (std::size_t j = 0; j < links; ++j) translation[j] = skeleton_.rest_pose()[j].translation();
-  for (std::size_t i = 0; i < dofs && i < q.size(); ++i) {
-    const BipedDof& d = dofs_[i];
-    const std::size_t j = static_cast<std::size_t>(d.joint);
-    if (d.kind == DofKind::translation) {
-      translation[j][d.axis] += q[i];
-    } else {
-      Vec3<double> axis{};
-      axis[d.axis] = 1;
-      rotation[j] = rotation[j] * Quaternion<double>::from_axis_angle(axis, q[i]);
-    }
-  }
-  for (std::size_t j = 0; j < links && j < local.size(); ++j)
-    local[j] = DualQuaternion<double>::from_rotation_translation(rotation[j], translation[j]);
-}
-
 std::array<double, Biped::dofs> Biped::clamp(std::span<const double> q) const {
   std::array<double, dofs> out{};
   for (std::size_t i = 0; i < dofs && i < q.size(); ++i) out[i] = std::clamp(q[i], dofs_[i].lower, dofs_[i].upper);

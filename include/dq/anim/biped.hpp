@@ -26,6 +26,7 @@
 #include <string_view>
 
 #include "dq/anim/skeleton.hpp"
+#include "dq/util/assert.hpp"
 
 namespace dq {
 
@@ -52,8 +53,32 @@ class Biped {
 
   /// Local transforms of all 16 joints for a DOF vector q (36 values): the rest offset, then the
   /// joint's translations and rotations. Values outside the limits are used as given; use clamp()
-  /// first to respect the limits.
-  void pose(std::span<const double> q, std::span<DualQuaternion<double>> local) const;
+  /// first to respect the limits. Generic over the scalar: with Dual<double> values it gives the
+  /// exact derivatives of every joint's transform. Preconditions: 36 values, 16 outputs.
+  template <class T>
+  void pose(std::span<const T> q, std::span<DualQuaternion<T>> local) const {
+    DQ_PRECONDITION(q.size() == dofs && local.size() == links, "Biped::pose needs 36 values and 16 outputs");
+    std::array<Vec3<T>, links> translation{};
+    std::array<Quaternion<T>, links> rotation{};
+    for (std::size_t j = 0; j < links; ++j) {
+      const Vec3<double> t = skeleton_.rest_pose()[j].translation();
+      translation[j] = {T(t.x), T(t.y), T(t.z)};
+    }
+    for (std::size_t i = 0; i < dofs; ++i) {
+      const BipedDof& d = dofs_[i];
+      const auto j = static_cast<std::size_t>(d.joint);
+      if (d.kind == DofKind::translation) {
+        translation[j][d.axis] += q[i];
+      } else {
+        Vec3<T> axis{T(0), T(0), T(0)};
+        axis[d.axis] = T(1);
+        rotation[j] = rotation[j] * Quaternion<T>::from_rotation_vector(axis * q[i]);
+      }
+    }
+    for (std::size_t j = 0; j < links; ++j) local[j] = DualQuaternion<T>::from_rotation_translation(rotation[j], translation[j]);
+  }
+  /// The same for double, callable with containers.
+  void pose(std::span<const double> q, std::span<DualQuaternion<double>> local) const { pose<double>(q, local); }
   /// q with every value clamped to its limits.
   std::array<double, dofs> clamp(std::span<const double> q) const;
 
