@@ -36,13 +36,13 @@ RawSkin two_bone_cylinder(const CylinderShape& c) {
   for (std::uint32_t r = 0; r + 1 < rings; ++r)
     for (std::uint32_t k = 0; k < segments; ++k) {
       const std::uint32_t a = r * segments + k, b = r * segments + (k + 1) % segments;
-      tri(a, b + segments, b);  // outward: the ring runs counter-clockwise seen from +x
-      tri(a, a + segments, b + segments);
+      tri(a, b, b + segments);  // outward (the ring turns from +y to +z)
+      tri(a, b + segments, a + segments);
     }
   for (std::uint32_t k = 0; k < segments; ++k) {
-    tri(cap0, k, (k + 1) % segments);
+    tri(cap0, (k + 1) % segments, k);
     const std::uint32_t last = (rings - 1) * segments;
-    tri(cap1, last + (k + 1) % segments, last + k);
+    tri(cap1, last + k, last + (k + 1) % segments);
   }
   s.inverse_bind = {Mat4<double>::identity(), Mat4<double>::identity()};
   s.inverse_bind[1](0, 3) = -joint;

@@ -8,10 +8,7 @@
 
 namespace dq {
 
-SkinPalette::SkinPalette(std::size_t bones) {
-  for (auto& a : m) a.assign(bones, 0.0f);
-  for (auto& a : q) a.assign(bones, 0.0f);
-}
+SkinPalette::SkinPalette(std::size_t bones) : matrices(12 * bones), dual_quaternions(8 * bones), scale_shear(12 * bones) {}
 
 void update_palette(const Skin& skin, std::span<const DualQuaternion<double>> bone_world, SkinPalette& palette) {
   DQ_PRECONDITION(bone_world.size() == skin.bone_count() && palette.size() == skin.bone_count(),
@@ -21,12 +18,18 @@ void update_palette(const Skin& skin, std::span<const DualQuaternion<double>> bo
     const DualQuaternion<double> d = bone_world[b] * bone.rigid;
     const Mat34<double> rigid = to_mat34(d);
     const Mat3<double> full = rotation_block(rigid) * bone.scale_shear;
+    float* m = palette.matrices.data() + 12 * b;
+    float* p = palette.scale_shear.data() + 12 * b;
     for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) palette.m[r * 4 + c][b] = static_cast<float>(full(r, c));
-      palette.m[r * 4 + 3][b] = static_cast<float>(rigid(r, 3));
+      for (int c = 0; c < 3; ++c) {
+        m[r * 4 + c] = static_cast<float>(full(r, c));
+        p[r * 4 + c] = static_cast<float>(bone.scale_shear(r, c));
+      }
+      m[r * 4 + 3] = static_cast<float>(rigid(r, 3));
+      p[r * 4 + 3] = 0.0f;
     }
     const double c[8] = {d.real.w, d.real.x, d.real.y, d.real.z, d.dual.w, d.dual.x, d.dual.y, d.dual.z};
-    for (int k = 0; k < 8; ++k) palette.q[k][b] = static_cast<float>(c[k]);
+    for (std::size_t k = 0; k < 8; ++k) palette.dual_quaternions[8 * b + k] = static_cast<float>(c[k]);
   }
 }
 
@@ -68,84 +71,104 @@ inline V3 cofactor(const float* a, V3 n) {
   const V3 r0 = cross3(c1, c2), r1 = cross3(c2, c0), r2 = cross3(c0, c1);
   return {r0.x * n.x + r1.x * n.y + r2.x * n.z, r0.y * n.x + r1.y * n.y + r2.y * n.z, r0.z * n.x + r1.z * n.y + r2.z * n.z};
 }
-/// Rotation of v by the unit quaternion (w, u): v + 2w (u × v) + 2 u × (u × v).
-inline V3 rotate(float w, V3 u, V3 v) {
-  const V3 t = scale(cross3(u, v), 2.0f);
-  return add(add(v, scale(t, w)), cross3(u, t));
-}
-
-template <SkinningMethod M>
+/// K > 0: the skin has exactly K slots (a compile-time count the compiler unrolls); K = 0: any.
+template <SkinningMethod M, std::size_t K>
 void skin_range(const Skin& skin, const SkinPalette& pal, const SkinnedVertices& out, std::size_t b, std::size_t e) {
-  const std::size_t n = skin.vertex_count(), slots = skin.slots();
-  const std::uint32_t* bone = skin.slot_bones().data();
-  const float* weight = skin.slot_weights().data();
+  const std::size_t n = skin.vertex_count(), slots = K > 0 ? K : skin.slots();
+  const std::uint32_t* __restrict bone = skin.slot_bones().data();
+  const float* __restrict weight = skin.slot_weights().data();
+  const float* __restrict mats = pal.matrices.data();
+  const float* __restrict dqs = pal.dual_quaternions.data();
+  const float* __restrict scales = pal.scale_shear.data();
+  const float *__restrict px = skin.px().data(), *__restrict py = skin.py().data(), *__restrict pz = skin.pz().data();
+  const float *nx = skin.nx().data(), *ny = skin.ny().data(), *nz = skin.nz().data();
+  const float *tx = skin.tx().data(), *ty = skin.ty().data(), *tz = skin.tz().data();
+  const float *cx = skin.cx().data(), *cy = skin.cy().data(), *cz = skin.cz().data();
+  float *__restrict opx = out.px.data(), *__restrict opy = out.py.data(), *__restrict opz = out.pz.data();
+  float *onx = out.nx.data(), *ony = out.ny.data(), *onz = out.nz.data();
+  float *otx = out.tx.data(), *oty = out.ty.data(), *otz = out.tz.data();
   const bool normals = !out.nx.empty(), tangents = !out.tx.empty();
   // The linear phase (Kavan's two-phase method) is needed by DQS and CoR only when a bind scales.
   const bool scaled = M != SkinningMethod::lbs && skin.has_scale_shear();
   for (std::size_t v = b; v < e; ++v) {
-    const V3 p{skin.px()[v], skin.py()[v], skin.pz()[v]};
-    float mat[12] = {};   // blended 3x4 matrix (LBS, CoR)
-    float dq[8] = {};     // blended dual quaternion (DQS; CoR uses its real part)
+    const V3 p{px[v], py[v], pz[v]};
+    float mat[12] = {};  // blended 3x4 matrix (LBS, CoR)
+    float dq[8] = {};    // blended dual quaternion (DQS; CoR uses its real part)
     float lin[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};  // blended scale/shear (two-phase)
     if constexpr (M != SkinningMethod::lbs) {
-      const std::uint32_t j0 = bone[v];  // slot 0: the pivot (largest weight, then lowest bone)
-      const float r0w = pal.q[0][j0], r0x = pal.q[1][j0], r0y = pal.q[2][j0], r0z = pal.q[3][j0];
-      for (std::size_t k = 0; k < slots; ++k) {
-        const std::uint32_t j = bone[k * n + v];
-        const float w = weight[k * n + v];
-        const float d = pal.q[0][j] * r0w + pal.q[1][j] * r0x + pal.q[2][j] * r0y + pal.q[3][j] * r0z;
-        const float s = std::copysign(w, d);  // antipodality: the hemisphere of the pivot
-        const int parts = M == SkinningMethod::dqs ? 8 : 4;
-        for (int c = 0; c < parts; ++c) dq[c] += s * pal.q[c][j];
+      const float* r0 = dqs + 8 * bone[v];  // slot 0: the pivot (largest weight, then lowest bone)
+      constexpr int parts = M == SkinningMethod::dqs ? 8 : 4;
+      for (int c = 0; c < parts; ++c) dq[c] = weight[v] * r0[c];
+      for (std::size_t k = 1; k < slots; ++k) {
+        const float* q = dqs + 8 * bone[k * n + v];
+        const float d = q[0] * r0[0] + q[1] * r0[1] + q[2] * r0[2] + q[3] * r0[3];
+        const float s = std::copysign(weight[k * n + v], d);  // antipodality: the pivot's hemisphere
+        for (int c = 0; c < parts; ++c) dq[c] += s * q[c];
       }
     }
     if constexpr (M != SkinningMethod::dqs) {
       for (std::size_t k = 0; k < slots; ++k) {
-        const std::uint32_t j = bone[k * n + v];
+        const float* m = mats + 12 * bone[k * n + v];
         const float w = weight[k * n + v];
-        for (int c = 0; c < 12; ++c) mat[c] += w * pal.m[c][j];
+        for (int c = 0; c < 12; ++c) mat[c] += w * m[c];
       }
     }
     if (scaled) {
       for (float& x : lin) x = 0;
       for (std::size_t k = 0; k < slots; ++k) {
-        const std::uint32_t j = bone[k * n + v];
+        const float* m = scales + 12 * bone[k * n + v];
         const float w = weight[k * n + v];
-        const Mat3<double>& ps = skin.bones()[j].scale_shear;
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) lin[r * 4 + c] += w * static_cast<float>(ps(r, c));
+        for (int c = 0; c < 12; ++c) lin[c] += w * m[c];
       }
     }
-    auto write = [&](V3 x, std::span<float> ox, std::span<float> oy, std::span<float> oz) { ox[v] = x.x, oy[v] = x.y, oz[v] = x.z; };
+    auto write = [v](V3 x, float* ox, float* oy, float* oz) { ox[v] = x.x, oy[v] = x.y, oz[v] = x.z; };
     if constexpr (M == SkinningMethod::lbs) {
-      write(affine(mat, p), out.px, out.py, out.pz);
-      if (normals) write(unit(cofactor(mat, {skin.nx()[v], skin.ny()[v], skin.nz()[v]})), out.nx, out.ny, out.nz);
-      if (tangents) write(unit(linear(mat, {skin.tx()[v], skin.ty()[v], skin.tz()[v]})), out.tx, out.ty, out.tz);
+      write(affine(mat, p), opx, opy, opz);
+      if (normals) write(unit(cofactor(mat, {nx[v], ny[v], nz[v]})), onx, ony, onz);
+      if (tangents) write(unit(linear(mat, {tx[v], ty[v], tz[v]})), otx, oty, otz);
     } else {
-      const float inv = 1.0f / std::sqrt(dq[0] * dq[0] + dq[1] * dq[1] + dq[2] * dq[2] + dq[3] * dq[3]);
-      const float w = dq[0] * inv;
-      const V3 u{dq[1] * inv, dq[2] * inv, dq[3] * inv};
+      // The blend is not normalized: with q = (w, u), |q|² = n2, the unit rotation's action is
+      // v + (2/n2) (w (u × v) + u × (u × v)) and the translation (2/n2) (w d⃗ − d_w u + u × d⃗).
+      // One reciprocal and no square root (which would sit on the critical path of every vertex).
+      const float w = dq[0];
+      const V3 u{dq[1], dq[2], dq[3]};
+      const float k = 2.0f / (w * w + u.x * u.x + u.y * u.y + u.z * u.z);
+      auto rotate_blend = [&](V3 x) {
+        const V3 c = cross3(u, x);
+        return add(x, scale(add(scale(c, w), cross3(u, c)), k));
+      };
       if constexpr (M == SkinningMethod::dqs) {
-        // Translation of the normalized blend: 2 (w d⃗ − d_w u + u × d⃗), d the dual part / |real|.
-        const float dw = dq[4] * inv;
-        const V3 d{dq[5] * inv, dq[6] * inv, dq[7] * inv};
-        const V3 t = scale(add(add(scale(d, w), scale(u, -dw)), cross3(u, d)), 2.0f);
-        write(add(rotate(w, u, scaled ? linear(lin, p) : p), t), out.px, out.py, out.pz);
+        const V3 d{dq[5], dq[6], dq[7]};
+        const V3 t = scale(add(add(scale(d, w), scale(u, -dq[4])), cross3(u, d)), k);
+        write(add(rotate_blend(scaled ? linear(lin, p) : p), t), opx, opy, opz);
       } else {
         // CoR: rotate about the centre c by the blended rotation, move c by the blended matrix.
-        const V3 c{skin.cx()[v], skin.cy()[v], skin.cz()[v]};
+        const V3 c{cx[v], cy[v], cz[v]};
         const V3 rel{p.x - c.x, p.y - c.y, p.z - c.z};
-        write(add(rotate(w, u, scaled ? linear(lin, rel) : rel), affine(mat, c)), out.px, out.py, out.pz);
+        write(add(rotate_blend(scaled ? linear(lin, rel) : rel), affine(mat, c)), opx, opy, opz);
       }
       if (normals) {
-        const V3 nv{skin.nx()[v], skin.ny()[v], skin.nz()[v]};
-        write(rotate(w, u, scaled ? unit(cofactor(lin, nv)) : nv), out.nx, out.ny, out.nz);
+        const V3 nv{nx[v], ny[v], nz[v]};
+        write(rotate_blend(scaled ? unit(cofactor(lin, nv)) : nv), onx, ony, onz);
       }
       if (tangents) {
-        const V3 tv{skin.tx()[v], skin.ty()[v], skin.tz()[v]};
-        write(rotate(w, u, scaled ? unit(linear(lin, tv)) : tv), out.tx, out.ty, out.tz);
+        const V3 tv{tx[v], ty[v], tz[v]};
+        write(rotate_blend(scaled ? unit(linear(lin, tv)) : tv), otx, oty, otz);
       }
     }
+  }
+}
+
+/// The usual influence counts (1 to 4, and 8) get kernels unrolled for them.
+template <SkinningMethod M>
+void dispatch_slots(const Skin& skin, const SkinPalette& pal, const SkinnedVertices& out, std::size_t b, std::size_t e) {
+  switch (skin.slots()) {
+    case 1: return skin_range<M, 1>(skin, pal, out, b, e);
+    case 2: return skin_range<M, 2>(skin, pal, out, b, e);
+    case 3: return skin_range<M, 3>(skin, pal, out, b, e);
+    case 4: return skin_range<M, 4>(skin, pal, out, b, e);
+    case 8: return skin_range<M, 8>(skin, pal, out, b, e);
+    default: return skin_range<M, 0>(skin, pal, out, b, e);
   }
 }
 
@@ -154,9 +177,9 @@ void skin_range(const Skin& skin, const SkinPalette& pal, const SkinnedVertices&
 void SkinningJob::run() const {
   DQ_PRECONDITION(validate().ok(), "SkinningJob::run on a job that does not validate");
   switch (method) {
-    case SkinningMethod::lbs: return skin_range<SkinningMethod::lbs>(*skin, *palette, out, first, first + count);
-    case SkinningMethod::dqs: return skin_range<SkinningMethod::dqs>(*skin, *palette, out, first, first + count);
-    case SkinningMethod::cor: return skin_range<SkinningMethod::cor>(*skin, *palette, out, first, first + count);
+    case SkinningMethod::lbs: return dispatch_slots<SkinningMethod::lbs>(*skin, *palette, out, first, first + count);
+    case SkinningMethod::dqs: return dispatch_slots<SkinningMethod::dqs>(*skin, *palette, out, first, first + count);
+    case SkinningMethod::cor: return dispatch_slots<SkinningMethod::cor>(*skin, *palette, out, first, first + count);
   }
 }
 

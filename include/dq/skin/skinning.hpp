@@ -25,14 +25,15 @@ namespace dq {
 
 enum class SkinningMethod { lbs, dqs, cor };
 
-/// Per-frame bone transforms, structure-of-arrays. `m[r * 4 + c][bone]` is entry (r, c) of the
-/// bone's full 3x4 skinning matrix W · B; `q[k][bone]` is component k (real w, x, y, z, dual
-/// w, x, y, z) of its rigid part W · rigid(B) as a unit dual quaternion.
+/// Per-frame bone transforms, one record per bone (a kernel loads a bone's record with whole
+/// vector loads; SIMD lanes gather records by bone index). `matrices[12 b + 4 r + c]` is entry
+/// (r, c) of bone b's full 3x4 skinning matrix W · B; `dual_quaternions[8 b + k]` is component k
+/// (real w, x, y, z, dual w, x, y, z) of its rigid part W · rigid(B); `scale_shear[12 b + 4 r + c]`
+/// is entry (r, c < 3) of B's scale/shear P (the linear phase of DQS and CoR; column 3 unused).
 struct SkinPalette {
   explicit SkinPalette(std::size_t bones = 0);
-  std::size_t size() const noexcept { return m[0].size(); }
-  std::vector<float> m[12];
-  std::vector<float> q[8];
+  std::size_t size() const noexcept { return dual_quaternions.size() / 8; }
+  std::vector<float> matrices, dual_quaternions, scale_shear;
 };
 
 /// Fills the palette from the bones' rigid world transforms (one per bone, the skeleton's

@@ -1,0 +1,142 @@
+// dqkit render: pictures of a skinned model, headless (OpenGL 3.3 core on Mesa's EGL): LBS, DQS,
+// CoR or all three side by side, one time or a sequence of numbered PNGs, with a camera that
+// frames the whole animation so that the frames of a sequence line up.
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <thread>
+
+#include "commands.hpp"
+#include "common.hpp"
+#include "dq/render/render.hpp"
+#include "skinned_model.hpp"
+
+namespace dq::cli {
+
+namespace {
+
+struct RenderArgs {
+  SkinnedModelOptions model;
+  double until = -1;
+  double fps = 30;
+  std::string method = "all";
+  std::string output;
+  int width = 0, height = 0;
+  std::string camera;
+  bool skeleton = false;
+  bool force = false;
+};
+
+int run_render(const RenderArgs& a) {
+  std::vector<SkinningMethod> methods{SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor};
+  if (a.method != "all") methods = {method_named(a.method)};
+  if (a.output.size() < 5 || a.output.substr(a.output.size() - 4) != ".png") throw Failure("--out must name a .png file");
+  const int width = a.width > 0 ? a.width : (methods.size() > 1 ? 1200 : 800);
+  const int height = a.height > 0 ? a.height : (methods.size() > 1 ? 400 : 600);
+  double yaw = 35, pitch = 20, distance = 0;
+  if (!a.camera.empty()) {
+    char extra = 0;
+    const int n = std::sscanf(a.camera.c_str(), "%lf,%lf,%lf%c", &yaw, &pitch, &distance, &extra);
+    if (n < 2 || n > 3 || !std::isfinite(yaw) || !std::isfinite(pitch) || !std::isfinite(distance) || distance < 0)
+      throw Failure("--camera must be 'yaw,pitch' or 'yaw,pitch,distance' (degrees, degrees, model units > 0), got '" + a.camera + "'");
+  }
+  // The times to draw; a sequence writes NAME_0000.png, NAME_0001.png, ...
+  std::vector<double> times{a.model.time};
+  if (a.until >= a.model.time) {
+    const auto count = static_cast<std::size_t>(std::floor((a.until - a.model.time) * a.fps + 1e-9)) + 1;
+    if (count > 100000) throw Failure("--until: the sequence would have more than 100000 frames");
+    times.clear();
+    for (std::size_t i = 0; i < count; ++i) times.push_back(a.model.time + static_cast<double>(i) / a.fps);
+  }
+  const std::string stem = a.output.substr(0, a.output.size() - 4);
+  auto name_of = [&](std::size_t i) {
+    if (times.size() == 1) return a.output;
+    char suffix[32];
+    std::snprintf(suffix, sizeof suffix, "_%04zu.png", i);
+    return stem + suffix;
+  };
+  if (!a.force)
+    for (std::size_t i = 0; i < times.size(); ++i)
+      if (std::filesystem::exists(name_of(i))) throw Failure(name_of(i) + ": exists (use --force to replace it)");
+
+  SkinnedModel m = load_skinned_model(a.model);
+  SkinningThreads threads(std::max(1u, std::min(4u, std::thread::hardware_concurrency())));
+  SkinnedFrame frame = m.skins.make_frame();
+  std::vector<DualQuaternion<double>> world;
+  auto skin_at = [&](double t, SkinningMethod method) {
+    if (Status s = pose_at(m.scene, a.model.animation, t, world); !s) throw Failure(a.model.file + ": " + s.error().message);
+    if (Status s = m.skins.skin(world, method, threads, frame); !s) throw Failure(a.model.file + ": " + s.error().message);
+  };
+  // The camera frames every frame of the animation with every method drawn.
+  render::Bounds bounds;
+  const Animation* anim = m.scene.animations.empty() ? nullptr : &m.scene.animations[a.model.animation].animation;
+  const std::size_t frames = anim ? std::max<std::size_t>(anim->frame_count, 1) : 1;
+  for (std::size_t f = 0; f < frames; ++f)
+    for (SkinningMethod method : methods) {
+      skin_at(anim ? static_cast<double>(f) * anim->frame_time : 0, method);
+      for (std::size_t v = 0; v < frame.size(); ++v) bounds.add({frame.px[v], frame.py[v], frame.pz[v]});
+    }
+  const std::vector<render::Viewport> viewports = render::columns(width, height, static_cast<int>(methods.size()));
+  const double aspect = double(viewports[0].width) / double(viewports[0].height);
+  const double deg = std::numbers::pi / 180;
+  render::Camera camera = render::Camera::framing(bounds, aspect, yaw * deg, pitch * deg);
+  if (distance > 0) {
+    camera.distance = distance;
+    camera.near_plane = std::max(distance - 2 * bounds.radius(), distance * 1e-3);
+    camera.far_plane = distance + 2 * bounds.radius();
+  }
+  Expected<render::Renderer> renderer = render::Renderer::create({width, height, 4, {1, 1, 1, 1}});
+  if (!renderer) throw Failure(renderer.error().message);
+  // LBS red, DQS blue, CoR green (the order of SkinningMethod).
+  const render::Color colors[] = {{0.85f, 0.45f, 0.35f, 1}, {0.35f, 0.55f, 0.85f, 1}, {0.40f, 0.72f, 0.42f, 1}};
+  render::Scene drawn;
+  drawn.meshes.resize(1);
+  drawn.meshes[0].triangles = frame.triangles;
+  Progress progress("dqkit: rendering", times.size());
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    renderer->clear();
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+      skin_at(times[i], methods[k]);
+      render::Mesh& mesh = drawn.meshes[0];
+      mesh.positions.resize(frame.size());
+      for (std::size_t v = 0; v < frame.size(); ++v) mesh.positions[v] = {frame.px[v], frame.py[v], frame.pz[v]};
+      mesh.color = colors[static_cast<int>(methods[k])];
+      drawn.lines.clear();
+      if (a.skeleton) {
+        render::Lines bones{{}, {0.1f, 0.1f, 0.1f, 1}, true};
+        const auto parents = m.scene.skeleton.parents();
+        for (std::size_t j = 0; j < parents.size(); ++j)
+          if (parents[j] >= 0) {
+            const Vec3<double> p = world[static_cast<std::size_t>(parents[j])].translation(), c = world[j].translation();
+            bones.points.push_back({float(p.x), float(p.y), float(p.z)});
+            bones.points.push_back({float(c.x), float(c.y), float(c.z)});
+          }
+        drawn.lines.push_back(std::move(bones));
+      }
+      renderer->draw(drawn, camera, viewports[k]);
+    }
+    if (Status s = renderer->read().write_png(name_of(i)); !s) throw Failure(s.error().message);
+    progress.update(i + 1);
+  }
+  return 0;
+}
+
+}  // namespace
+
+Runner define_render(CLI::App& c) {
+  auto a = std::make_shared<RenderArgs>();
+  add_skinned_model_options(c, a->model);
+  c.add_option("--until", a->until, "Last time of a frame sequence, written as OUT_0000.png, OUT_0001.png, ...")->check(finite_in(-1e9, 1e9));
+  c.add_option("--fps", a->fps, "Frames per second of a sequence")->check(finite_in(0, 1000));
+  c.add_option("--method", a->method, "lbs, dqs, cor, or all: the three side by side (LBS, DQS, CoR from the left)")
+      ->check(CLI::IsMember({"lbs", "dqs", "cor", "all"}));
+  c.add_option("--out", a->output, "PNG file to write")->required();
+  c.add_option("--width", a->width, "Image width in pixels (default 1200 for all, else 800)")->check(CLI::Range(1, 16384));
+  c.add_option("--height", a->height, "Image height in pixels (default 400 for all, else 600)")->check(CLI::Range(1, 16384));
+  c.add_option("--camera", a->camera, "Orbit camera 'yaw,pitch[,distance]', degrees (default 35,20 at the distance that frames the whole animation)");
+  c.add_flag("--skeleton", a->skeleton, "Draw the bones as lines over the skin");
+  c.add_flag("--force", a->force, "Replace the output files if they exist");
+  return [a] { return run_render(*a); };
+}
+
+}  // namespace dq::cli

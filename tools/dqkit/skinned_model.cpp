@@ -1,0 +1,39 @@
+#include "skinned_model.hpp"
+
+#include "common.hpp"
+#include "dq/io/scene.hpp"
+
+namespace dq::cli {
+
+void add_skinned_model_options(CLI::App& c, SkinnedModelOptions& o) {
+  c.add_option("file", o.file, "Skinned model (glTF, FBX, Collada, X, ...)")->required();
+  c.add_option("--time", o.time, "Seconds into the animation (clamped to its duration; no animation: the rest pose)")
+      ->check(finite_in(-1e9, 1e9));
+  c.add_option("--animation", o.animation, "Which animation of a multi-animation file (from 0)");
+  c.add_option("--import-timeout", o.import_timeout, "Seconds before the importer (a separate process) is abandoned")
+      ->check(CLI::Range(0.001, 86400.0));
+}
+
+SkinnedModel load_skinned_model(const SkinnedModelOptions& o) {
+  ImportOptions options;
+  options.timeout_seconds = o.import_timeout;
+  Expected<ImportedScene> scene = import_scene(o.file, options);
+  if (!scene) throw Failure(scene.error().message);
+  print_warnings(scene->warnings);
+  if (scene->meshes.empty()) throw Failure(o.file + ": the file has no mesh to skin");
+  if (!scene->animations.empty() && o.animation >= scene->animations.size())
+    throw Failure(o.file + ": --animation " + std::to_string(o.animation) + ": the file has " + count_text(scene->animations.size(), "animation", "animations"));
+  Expected<SceneSkin> skins = SceneSkin::build(*scene);
+  if (!skins) throw Failure(o.file + ": " + skins.error().message);
+  if (skins->renormalized_vertices())
+    print_warnings({o.file + ": the weights of " + count_text(skins->renormalized_vertices(), "vertex", "vertices") + " did not sum to 1 and were normalized"});
+  return {std::move(*scene), std::move(*skins)};
+}
+
+SkinningMethod method_named(const std::string& name) {
+  if (name == "lbs") return SkinningMethod::lbs;
+  if (name == "cor") return SkinningMethod::cor;
+  return SkinningMethod::dqs;
+}
+
+}  // namespace dq::cli
