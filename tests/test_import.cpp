@@ -2,6 +2,9 @@
 // FBX, Collada, IQM, BVH), checked for structure and against dqkit's own BVH reader.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -160,6 +163,90 @@ TEST(Import, IsolatedAndInProcessResultsAreIdentical) {
     ASSERT_EQ(a->animations.size(), b->animations.size());
     for (std::size_t k = 0; k < a->animations.size(); ++k) EXPECT_EQ(a->animations[k].animation.locals, b->animations[k].animation.locals);
   }
+}
+
+}  // namespace
+
+// ---- importer results a user can trust (issue 9) ------------------------------------------------
+namespace {
+
+bool has_joint(const Skeleton& s, std::string_view part) {
+  for (const std::string& n : s.names())
+    if (n.find(part) != std::string::npos) return true;
+  return false;
+}
+
+TEST(ImportTrust, OneBrokenSkinDoesNotFailTheFile) {
+  DQKIT_REQUIRE_MODELS();
+  // anim_test.x: a mesh whose bone names no node. Assimp loads it; the mesh is left out with a
+  // warning and the skeleton and animation load.
+  const Expected<ImportedScene> s = import_scene(kModels / "X/anim_test.x");
+  ASSERT_TRUE(s) << s.error().message;
+  EXPECT_EQ(s->animations.size(), 1u);
+  bool warned = false;
+  for (const std::string& w : s->warnings) warned = warned || w.find("with no node; the mesh is left out") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
+TEST(ImportTrust, LightsCamerasAndPivotsAreNotJoints) {
+  DQKIT_REQUIRE_MODELS();
+  const Expected<ImportedScene> s = import_scene(kModels / "FBX/huesitos.fbx");
+  ASSERT_TRUE(s) << s.error().message;
+  EXPECT_FALSE(has_joint(s->skeleton, "Lamp"));
+  EXPECT_FALSE(has_joint(s->skeleton, "Camera"));
+  EXPECT_FALSE(has_joint(s->skeleton, "$AssimpFbx$"));
+  ImportOptions keep;
+  keep.lights_and_cameras = true;
+  const Expected<ImportedScene> all = import_scene(kModels / "FBX/huesitos.fbx", keep);
+  ASSERT_TRUE(all) << all.error().message;
+  EXPECT_TRUE(has_joint(all->skeleton, "Lamp"));
+  EXPECT_EQ(all->skeleton.size(), s->skeleton.size() + 2);
+}
+
+TEST(ImportTrust, ResampledClipsEndOnTheirLastKey) {
+  DQKIT_REQUIRE_MODELS();
+  for (double rate : {24.0, 30.0, 7.0}) {
+    ImportOptions o;
+    o.sample_rate = rate;
+    const Expected<ImportedScene> s = import_scene(kModels / "glTF2/simple_skin/simple_skin.gltf", o);
+    ASSERT_TRUE(s) << s.error().message;
+    const Animation& a = s->animations[0].animation;
+    EXPECT_EQ(a.frame_count, resampled_frame_count(5.5, rate)) << rate;  // the keys span 5.5 s
+    EXPECT_GE(a.duration(), 5.5 - 1e-9) << rate;
+  }
+}
+
+TEST(ImportTrust, DegenerateNodeTransformsAreErrors) {
+  // A glTF node with an all-zero matrix, and one with a mirror: both would decompose into an
+  // arbitrary rotation; they are errors that name the node.
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("dqkit_degenerate_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string head = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"name":"bad","matrix":[)";
+  for (const auto& [name, matrix] : std::vector<std::pair<std::string, std::string>>{
+           {"zero", "0,0,0,0, 0,0,0,0, 0,0,0,0, 0,0,0,1"}, {"mirror", "-1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1"},
+           {"huge", "1e30,0,0,0, 0,1e30,0,0, 0,0,1e30,0, 0,0,0,1"}}) {
+    const std::filesystem::path file = dir / (name + ".gltf");
+    std::ofstream(file) << head << matrix << "]}]}";
+    const Expected<ImportedScene> s = import_scene(file);
+    ASSERT_FALSE(s) << name;
+    EXPECT_NE(s.error().message.find("node 'bad' has a transform that is not a rotation and a scale"), std::string::npos)
+        << name << ": " << s.error().message;
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ImportTrust, ImportMotionRecognizesBvhByContentAndRefusesFifos) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("dqkit_bycontent_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "capture.mocap") << "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 0\n}\nMOTION\nFrames: 0\nFrame Time: 1\n";
+  const Expected<Motion> m = import_motion(dir / "capture.mocap");
+  ASSERT_TRUE(m) << m.error().message;
+  EXPECT_EQ(m->format, "bvh");
+  ASSERT_EQ(::mkfifo((dir / "pipe.gltf").c_str(), 0600), 0);
+  const Expected<Motion> f = import_motion(dir / "pipe.gltf");
+  ASSERT_FALSE(f);
+  EXPECT_NE(f.error().message.find("is not a regular file"), std::string::npos) << f.error().message;
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -113,6 +113,8 @@ class SceneBuilder {
     if (!options_.lights_and_cameras) {
       for (unsigned i = 0; i < scene_.mNumLights; ++i) not_joints.emplace(scene_.mLights[i]->mName.C_Str(), "light");
       for (unsigned i = 0; i < scene_.mNumCameras; ++i) not_joints.emplace(scene_.mCameras[i]->mName.C_Str(), "camera");
+      for (unsigned m = 0; m < scene_.mNumMeshes; ++m)  // a node that a skin uses stays a joint
+        for (unsigned b = 0; b < scene_.mMeshes[m]->mNumBones; ++b) not_joints.erase(scene_.mMeshes[m]->mBones[b]->mName.C_Str());
     }
     // Iterative depth-first walk (hostile files can nest deeply).
     std::vector<std::pair<const aiNode*, int>> stack{{node, parent}};
@@ -208,7 +210,15 @@ class SceneBuilder {
 
   Status import_animation(const aiAnimation& a) {
     const double ticks = a.mTicksPerSecond > 0 ? a.mTicksPerSecond : 25.0;  // Assimp's documented default
-    const double seconds = a.mDuration / ticks;
+    // The clip ends at its last key, also where that lies beyond mDuration (as in FBX files whose
+    // duration is one frame short).
+    double end = a.mDuration;
+    for (unsigned c = 0; c < a.mNumChannels; ++c) {
+      const aiNodeAnim& ch = *a.mChannels[c];
+      if (ch.mNumPositionKeys) end = std::max(end, ch.mPositionKeys[ch.mNumPositionKeys - 1].mTime);
+      if (ch.mNumRotationKeys) end = std::max(end, ch.mRotationKeys[ch.mNumRotationKeys - 1].mTime);
+    }
+    const double seconds = end / ticks;
     if (!std::isfinite(seconds) || seconds < 0) return Error{source_ + ": animation '" + std::string(a.mName.C_Str()) + "' has an invalid duration"};
     const double rate = std::clamp(options_.sample_rate, 1e-3, 1000.0);
     const std::size_t frames = resampled_frame_count(seconds, rate);  // the last frame on the last key

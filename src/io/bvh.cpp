@@ -403,7 +403,10 @@ std::size_t BvhFile::channel_count() const noexcept {
   return n;
 }
 
-Expected<BvhFile> read_bvh(std::string_view text, std::string_view source) { return Parser(text, source).parse(); }
+Expected<BvhFile> read_bvh(std::string_view text, std::string_view source) {
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);  // a UTF-8 byte-order mark
+  return Parser(text, source).parse();
+}
 
 Expected<BvhFile> read_bvh_file(const std::filesystem::path& path) {
   const std::string name = path.string();
