@@ -10,6 +10,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "dq/anim/forward_kinematics.hpp"
+#include "dq/simd/batch.hpp"
 #include "dq/interop/eigen.hpp"
 #include "dq/interop/glm.hpp"
 #include "dq/io/bvh.hpp"
@@ -58,7 +59,7 @@ void SoAJob(benchmark::State& state) {
     if (threads == 1) {
       job.run();
     } else {
-      (void)dq::run_parallel(job, threads);
+      (void)dq::simd::run_parallel(job, threads);
     }
     benchmark::DoNotOptimize(model.rw.data());
     benchmark::ClobberMemory();

@@ -7,6 +7,7 @@
 #include "dq/anim/animation.hpp"
 #include "dq/anim/biped.hpp"
 #include "dq/anim/forward_kinematics.hpp"
+#include "dq/simd/batch.hpp"
 #include "support.hpp"
 
 namespace {
@@ -139,7 +140,7 @@ TEST(ForwardKinematics, BatchJobEqualsPerPoseAndValidates) {
   ForwardKinematicsJob<float> job{biped.skeleton().parents(), local, model, 0, poses};
   ASSERT_TRUE(job.validate());
   for (unsigned threads : {1u, 2u, 4u}) {
-    ASSERT_TRUE(run_parallel(job, threads));
+    ASSERT_TRUE(simd::run_parallel(job, threads, 4));
     for (std::size_t p = 0; p < poses; ++p)
       for (std::size_t j = 0; j < joints; ++j) {
         const DualQuaternion<float> m = model.get(j, p);

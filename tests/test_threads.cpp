@@ -8,6 +8,7 @@
 
 #include "dq/anim/biped.hpp"
 #include "dq/anim/forward_kinematics.hpp"
+#include "dq/simd/batch.hpp"
 #include "dq/io/bvh.hpp"
 #include "models.hpp"
 #include "support.hpp"
@@ -50,7 +51,7 @@ TEST(Threads, ParallelBatchJobWritesDisjointPoses) {
   }
   ForwardKinematicsJob<double> parallel{biped.skeleton().parents(), local, model_store.view(), 0, poses};
   ForwardKinematicsJob<double> serial{biped.skeleton().parents(), local, serial_store.view(), 0, poses};
-  ASSERT_TRUE(run_parallel(parallel, 4));
+  ASSERT_TRUE(simd::run_parallel(parallel, 4, 8));
   serial.run();
   for (std::size_t p = 0; p < poses; p += 37)
     for (std::size_t j = 0; j < Biped::links; ++j) EXPECT_EQ(parallel.model.get(j, p), serial.model.get(j, p));

@@ -11,7 +11,6 @@
 #include <cstddef>
 #include <span>
 #include <string>
-#include <thread>
 #include <type_traits>
 #include <vector>
 
@@ -190,15 +189,18 @@ struct ForwardKinematicsJob {
 
   /// Runs on the calling thread. Precondition: validate() succeeds (checked; a job that does not
   /// validate is reported to the precondition handler and does nothing). (Processing the poses in
-  /// cache-sized blocks was measured and did not help here.)
+  /// cache-sized blocks was measured and did not help here.) dq::simd::run (dq/simd/batch.hpp)
+  /// runs the same job with the product vectorized for the CPU's widest instruction set.
   void run() const {
     DQ_PRECONDITION(validate().ok(), "ForwardKinematicsJob::run on a job that does not validate");
-    run_range(first_pose, first_pose + pose_count);
+    run_rows(&detail::dual_quaternion_product_rows<T>);
   }
 
- private:
-  void run_range(std::size_t b, std::size_t e) const {
-    const std::size_t s = local.stride;
+  /// The job's loop over joints with another implementation of the row product
+  /// `product(parent_row, local_row, model_row, first_pose, last_pose)`. Call validate() first.
+  template <class RowProduct>
+  void run_rows(RowProduct product) const {
+    const std::size_t s = local.stride, b = first_pose, e = first_pose + pose_count;
     const auto in = local.components();
     const auto out = model.components();
     for (std::size_t j = 0; j < parents.size(); ++j) {
@@ -209,34 +211,9 @@ struct ForwardKinematicsJob {
         continue;
       }
       const std::size_t prow = static_cast<std::size_t>(p) * s;
-      detail::dual_quaternion_product_rows<T>(detail::row_of<const T>(out, prow), detail::row_of<const T>(in, row),
-                                              detail::row_of<T>(out, row), b, e);
+      product(detail::row_of<const T>(out, prow), detail::row_of<const T>(in, row), detail::row_of<T>(out, row), b, e);
     }
   }
 };
-
-/// Runs a validated job split across `threads` threads by pose ranges (each thread writes its own
-/// poses only, so no synchronization is needed). threads = 0 uses the hardware concurrency.
-template <class T>
-Status run_parallel(const ForwardKinematicsJob<T>& job, unsigned threads = 0) {
-  if (Status s = job.validate(); !s) return s;
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, job.pose_count)));
-  if (threads <= 1) {
-    job.run();
-    return {};
-  }
-  std::vector<std::jthread> workers;
-  workers.reserve(threads);
-  const std::size_t chunk = (job.pose_count + threads - 1) / threads;
-  for (unsigned t = 0; t < threads; ++t) {
-    ForwardKinematicsJob<T> part = job;
-    part.first_pose = job.first_pose + t * chunk;
-    if (part.first_pose >= job.first_pose + job.pose_count) break;
-    part.pose_count = std::min(chunk, job.first_pose + job.pose_count - part.first_pose);
-    workers.emplace_back([part] { part.run(); });
-  }
-  return {};  // jthreads join here
-}
 
 }  // namespace dq

@@ -1,0 +1,189 @@
+// The batch kernels, once per instruction set. Each target's kernel is a function with GCC's
+// `target` attribute (never a per-file -m flag: an inline function compiled with AVX2 in one file
+// could then be picked by the linker for every caller, docs/design.md) and `flatten`, so that the
+// generic formulas of the scalar types, instantiated on the compiler's vector types, are inlined
+// and compiled for that target.
+#include "dq/simd/batch.hpp"
+
+#include <atomic>
+#include <cstring>
+
+namespace dq::simd {
+
+namespace {
+
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+// Wide vectors pass by value only inside the target functions, where everything is inlined
+// (`flatten`): the ABI note GCC gives for the helpers' signatures does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+// Vectors of N floats. (Spelled out per width: GCC drops `vector_size` with a size that depends on
+// a template parameter, silently leaving a plain float.)
+using float4 = float __attribute__((vector_size(16)));
+using float8 = float __attribute__((vector_size(32)));
+using float16 = float __attribute__((vector_size(64)));
+template <int N>
+struct VectorOf;
+template <>
+struct VectorOf<4> {
+  using type = float4;
+};
+template <>
+struct VectorOf<8> {
+  using type = float8;
+};
+template <>
+struct VectorOf<16> {
+  using type = float16;
+};
+template <int N>
+using vec = typename VectorOf<N>::type;
+static_assert(sizeof(vec<8>) == 8 * sizeof(float));
+
+/// N lanes that behave as a scalar for the generic formulas (T(2), T(0.5) broadcast a constant).
+template <int N>
+struct Lanes {
+  vec<N> v;
+  [[gnu::always_inline]] Lanes() : v{} {}
+  [[gnu::always_inline]] Lanes(vec<N> x) : v(x) {}          // NOLINT: implicit, as a scalar
+  [[gnu::always_inline]] Lanes(float s) : v(vec<N>{} + s) {}  // NOLINT
+  [[gnu::always_inline]] friend Lanes operator+(Lanes a, Lanes b) { return a.v + b.v; }
+  [[gnu::always_inline]] friend Lanes operator-(Lanes a, Lanes b) { return a.v - b.v; }
+  [[gnu::always_inline]] friend Lanes operator*(Lanes a, Lanes b) { return a.v * b.v; }
+  [[gnu::always_inline]] friend Lanes operator/(Lanes a, Lanes b) { return a.v / b.v; }
+  [[gnu::always_inline]] friend Lanes operator-(Lanes a) { return -a.v; }
+};
+
+template <int N>
+[[gnu::always_inline]] inline Lanes<N> load(const float* p) {
+  vec<N> v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+template <int N>
+[[gnu::always_inline]] inline void store(float* p, const Lanes<N>& x) {
+  std::memcpy(p, &x.v, sizeof x.v);
+}
+template <int N>
+[[gnu::always_inline]] inline DualQuaternion<Lanes<N>> load8(ConstRows r, std::size_t i) {
+  return {Quaternion<Lanes<N>>(load<N>(r.rw + i), load<N>(r.rx + i), load<N>(r.ry + i), load<N>(r.rz + i)),
+          Quaternion<Lanes<N>>(load<N>(r.dw + i), load<N>(r.dx + i), load<N>(r.dy + i), load<N>(r.dz + i))};
+}
+
+/// The kernels for vectors of N lanes; the tail (n mod N) runs the scalar formula.
+template <int N>
+struct Kernels {
+  using V = Lanes<N>;
+  [[gnu::always_inline]] static void compose(ConstRows a, ConstRows b, Rows out, std::size_t n) {
+    std::size_t i = 0;
+    for (; i + N <= n; i += N) {
+      const DualQuaternion<V> p = detail::dual_product(load8<N>(a, i), load8<N>(b, i),
+                                                       [](const Quaternion<V>& l, const Quaternion<V>& r) { return detail::hamilton(l, r); });
+      store<N>(out.rw + i, p.real.w), store<N>(out.rx + i, p.real.x), store<N>(out.ry + i, p.real.y), store<N>(out.rz + i, p.real.z);
+      store<N>(out.dw + i, p.dual.w), store<N>(out.dx + i, p.dual.x), store<N>(out.dy + i, p.dual.y), store<N>(out.dz + i, p.dual.z);
+    }
+    if (i < n) detail::dual_quaternion_product_rows<float>(a, b, out, i, n);
+  }
+  [[gnu::always_inline]] static void transform_points(ConstRows q, std::array<const float*, 3> p, std::array<float*, 3> out,
+                                                      std::size_t n) {
+    std::size_t i = 0;
+    for (; i + N <= n; i += N) {
+      const Vec3<V> r = load8<N>(q, i).transform_point({load<N>(p[0] + i), load<N>(p[1] + i), load<N>(p[2] + i)});
+      store<N>(out[0] + i, r.x), store<N>(out[1] + i, r.y), store<N>(out[2] + i, r.z);
+    }
+    for (; i < n; ++i) {
+      const DualQuaternion<float> d{q.rw[i], q.rx[i], q.ry[i], q.rz[i], q.dw[i], q.dx[i], q.dy[i], q.dz[i]};
+      const Vec3<float> r = d.transform_point({p[0][i], p[1][i], p[2][i]});
+      out[0][i] = r.x, out[1][i] = r.y, out[2][i] = r.z;
+    }
+  }
+};
+
+#define DQKIT_TARGET_KERNELS(name, lanes, attribute)                                                                    \
+  [[gnu::target(attribute), gnu::flatten]] void compose_##name(ConstRows a, ConstRows b, Rows out, std::size_t n) {     \
+    Kernels<lanes>::compose(a, b, out, n);                                                                              \
+  }                                                                                                                     \
+  [[gnu::target(attribute), gnu::flatten]] void transform_points_##name(ConstRows q, std::array<const float*, 3> p,     \
+                                                                        std::array<float*, 3> out, std::size_t n) {     \
+    Kernels<lanes>::transform_points(q, p, out, n);                                                                     \
+  }
+DQKIT_TARGET_KERNELS(sse2, 4, "sse2")
+DQKIT_TARGET_KERNELS(avx2, 8, "avx2")
+DQKIT_TARGET_KERNELS(avx512, 16, "avx512f")
+#undef DQKIT_TARGET_KERNELS
+
+Target detect() noexcept {
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx512f")) return Target::avx512;
+  if (__builtin_cpu_supports("avx2")) return Target::avx2;
+  return Target::sse2;  // part of every x86-64 CPU
+}
+#else
+Target detect() noexcept { return Target::scalar; }
+#endif
+
+std::atomic<Target>& active() {
+  static std::atomic<Target> t{detect()};
+  return t;
+}
+
+}  // namespace
+
+Target best_target() noexcept {
+  static const Target t = detect();
+  return t;
+}
+Target current_target() noexcept { return active().load(std::memory_order_relaxed); }
+Target use_target(Target t) noexcept {
+  const Target chosen = static_cast<int>(t) < static_cast<int>(best_target()) ? t : best_target();
+  active().store(chosen);
+  return chosen;
+}
+std::string_view to_string(Target t) noexcept {
+  switch (t) {
+    case Target::scalar: return "scalar";
+    case Target::sse2: return "SSE2";
+    case Target::avx2: return "AVX2";
+    case Target::avx512: return "AVX-512";
+  }
+  return "?";
+}
+
+void compose(ConstRows a, ConstRows b, Rows out, std::size_t n) {
+  switch (current_target()) {
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+    case Target::avx512: return compose_avx512(a, b, out, n);
+    case Target::avx2: return compose_avx2(a, b, out, n);
+    case Target::sse2: return compose_sse2(a, b, out, n);
+#endif
+    default: return detail::dual_quaternion_product_rows<float>(a, b, out, 0, n);
+  }
+}
+
+void transform_points(ConstRows q, std::array<const float*, 3> p, std::array<float*, 3> out, std::size_t n) {
+  switch (current_target()) {
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+    case Target::avx512: return transform_points_avx512(q, p, out, n);
+    case Target::avx2: return transform_points_avx2(q, p, out, n);
+    case Target::sse2: return transform_points_sse2(q, p, out, n);
+#endif
+    default:
+      for (std::size_t i = 0; i < n; ++i) {
+        const DualQuaternion<float> d{q.rw[i], q.rx[i], q.ry[i], q.rz[i], q.dw[i], q.dx[i], q.dy[i], q.dz[i]};
+        const Vec3<float> r = d.transform_point({p[0][i], p[1][i], p[2][i]});
+        out[0][i] = r.x, out[1][i] = r.y, out[2][i] = r.z;
+      }
+  }
+}
+
+void run(const ForwardKinematicsJob<float>& job) {
+  DQ_PRECONDITION(job.validate().ok(), "simd::run on a job that does not validate");
+  job.run_rows([](ConstRows a, ConstRows b, Rows out, std::size_t first, std::size_t last) {
+    compose({a.rw + first, a.rx + first, a.ry + first, a.rz + first, a.dw + first, a.dx + first, a.dy + first, a.dz + first},
+            {b.rw + first, b.rx + first, b.ry + first, b.rz + first, b.dw + first, b.dx + first, b.dy + first, b.dz + first},
+            {out.rw + first, out.rx + first, out.ry + first, out.rz + first, out.dw + first, out.dx + first, out.dy + first,
+             out.dz + first},
+            last - first);
+  });
+}
+
+}  // namespace dq::simd
