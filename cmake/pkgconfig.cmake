@@ -18,6 +18,7 @@ endfunction()
 
 dqkit_pkgconfig(dqkit "" "${PROJECT_DESCRIPTION}: the header-only algebra" "")
 dqkit_pkgconfig(dqkit-anim dqkit_anim "dqkit skeletons, forward kinematics, the biped" dqkit)
+dqkit_pkgconfig(dqkit-simd dqkit_simd "dqkit batch kernels with the instruction set chosen at run time" dqkit-anim)
 dqkit_pkgconfig(dqkit-io dqkit_io "dqkit BVH reading and writing, motion loading, safe file writing" dqkit-anim)
 if(TARGET dqkit_ik)
   dqkit_pkgconfig(dqkit-ik dqkit_ik "dqkit kinematic models and inverse kinematics" dqkit-io)

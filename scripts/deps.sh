@@ -2,7 +2,7 @@
 # Installs the Debian packages dqkit builds and tests with, if any is missing (idempotent).
 set -euo pipefail
 packages=(cmake g++ make pkg-config libgtest-dev libbenchmark-dev libeigen3-dev libglm-dev
-  libassimp-dev assimp-testmodels liborocos-kdl-dev libcli11-dev nlohmann-json3-dev clang libclang-rt-14-dev
+  libassimp-dev assimp-testmodels liborocos-kdl-dev libtbb-dev libcli11-dev nlohmann-json3-dev clang libclang-rt-14-dev
   libtinygltf-dev libstb-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri imagemagick)
 missing=()
 for p in "${packages[@]}"; do
