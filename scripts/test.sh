@@ -39,7 +39,7 @@ fi
 echo "== ThreadSanitizer build: the tests that use threads"
 cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDQKIT_TSAN=ON -DDQKIT_BUILD_BENCHMARKS=OFF \
   -DDQKIT_BUILD_EXAMPLES=OFF >/dev/null
-cmake --build build/tsan -j "$jobs" --target test_threads test_skeleton
+cmake --build build/tsan -j "$jobs" --target test_threads test_skeleton test_skin  # test_skin: Skinning.Threads*
 run_ctest --test-dir build/tsan -R "Threads|ForwardKinematics"
 
 echo "== Fuzzing: every target for ${DQKIT_FUZZ_SECONDS:-45} s (libFuzzer, clang)"

@@ -1,0 +1,130 @@
+// dqkit skin and dqkit render, run as a user runs them: outputs, files, sequences, errors.
+#include <gtest/gtest.h>
+#include <stb_image.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "models.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int code;
+  std::string out, err;
+};
+
+/// Runs the tool; standard error goes to a file (so it is not a terminal: no progress display).
+Outcome run(const std::string& args) {
+  const fs::path err_file = fs::temp_directory_path() / ("dqkit_skin_cli_stderr_" + std::to_string(::getpid()) + ".txt");
+  FILE* p = popen((std::string(DQKIT_CLI) + " " + args + " 2>" + err_file.string()).c_str(), "r");
+  Outcome r{-1, "", ""};
+  if (!p) return r;
+  char buf[65536];
+  std::size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream e(err_file);
+  std::stringstream ss;
+  ss << e.rdbuf();
+  r.err = ss.str();
+  fs::remove(err_file);
+  return r;
+}
+
+class SkinCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    DQKIT_REQUIRE_MODELS();
+    dir_ = fs::temp_directory_path() / ("dqkit_skin_cli_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  std::string model(const char* relative) const { return "'" + (dq::test::assimp_models() / relative).string() + "'"; }
+  fs::path dir_;
+};
+
+TEST_F(SkinCli, CsvOfSimpleSkin) {
+  const Outcome r = run("skin " + model("glTF2/simple_skin/simple_skin.gltf") + " --time 1 --method lbs");
+  ASSERT_EQ(r.code, 0) << r.err;
+  // Ten vertices; vertex 0, (0, 0, 0) in the file, is bound to joint 0 only, which stays at its
+  // bind offset: inverse bind translate(−0.5, −1, 0) after joint translate(0, 1, 0).
+  EXPECT_EQ(r.out.substr(0, r.out.find('\n')), "vertex,x,y,z");
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 11);
+  EXPECT_NE(r.out.find("\n0,-0.5,0,0\n"), std::string::npos) << r.out;
+}
+
+TEST_F(SkinCli, FilesAreNotReplacedWithoutForce) {
+  const std::string out = (dir_ / "frame.obj").string();
+  ASSERT_EQ(run("skin " + model("X/Testwuson.X") + " --format obj -o " + out).code, 0);
+  ASSERT_TRUE(fs::exists(out));
+  const Outcome again = run("skin " + model("X/Testwuson.X") + " --format obj -o " + out);
+  EXPECT_EQ(again.code, 1);
+  EXPECT_NE(again.err.find("frame.obj"), std::string::npos) << again.err;
+  EXPECT_EQ(run("skin " + model("X/Testwuson.X") + " --format ply -o " + out + " --force").code, 0);
+}
+
+TEST_F(SkinCli, RenderAllThreeSideBySide) {
+  const std::string out = (dir_ / "all.png").string();
+  const Outcome r = run("render " + model("X/BCN_Epileptic.X") + " --time 1 --method all --width 300 --height 120 --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  int w = 0, h = 0, n = 0;
+  unsigned char* data = stbi_load(out.c_str(), &w, &h, &n, 4);
+  ASSERT_NE(data, nullptr);
+  EXPECT_EQ(w, 300);
+  EXPECT_EQ(h, 120);
+  // Each third shows the character: pixels other than the white background, mostly of its colour
+  // (LBS red, DQS blue, CoR green dominate their thirds).
+  for (int third = 0; third < 3; ++third) {
+    long covered = 0, r_sum = 0, g_sum = 0, b_sum = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = third * 100; x < third * 100 + 100; ++x) {
+        const unsigned char* p = data + 4 * (y * w + x);
+        if (p[0] == 255 && p[1] == 255 && p[2] == 255) continue;
+        ++covered, r_sum += p[0], g_sum += p[1], b_sum += p[2];
+      }
+    EXPECT_GT(covered, 100) << "third " << third;
+    const long channel[3] = {r_sum, g_sum, b_sum};
+    EXPECT_EQ(std::max_element(channel, channel + 3) - channel, third == 0 ? 0 : third == 1 ? 2 : 1) << "third " << third;
+  }
+  stbi_image_free(data);
+}
+
+TEST_F(SkinCli, RenderSequenceIsNumbered) {
+  const std::string out = (dir_ / "seq.png").string();
+  const Outcome r = run("render " + model("Collada/box_nested_animation.dae") + " --method dqs --time 0 --until 0.2 --fps 10 --width 64 --height 48 --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "seq_0000.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "seq_0002.png"));
+  EXPECT_FALSE(fs::exists(dir_ / "seq_0003.png"));
+  EXPECT_FALSE(fs::exists(dir_ / "seq.png"));
+}
+
+TEST_F(SkinCli, ErrorsSayWhat) {
+  Outcome r = run("render " + model("X/Testwuson.X") + " --out " + (dir_ / "x.jpg").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("--out must name a .png file"), std::string::npos) << r.err;
+  r = run("skin " + model("X/Testwuson.X") + " --animation 7");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("--animation 7: the file has 3 animations"), std::string::npos) << r.err;
+  r = run("render " + model("X/Testwuson.X") + " --camera 10 --out " + (dir_ / "y.png").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("--camera must be"), std::string::npos) << r.err;
+  r = run("skin " + (dir_ / "missing.gltf").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("missing.gltf"), std::string::npos) << r.err;
+}
+
+}  // namespace
