@@ -1,0 +1,252 @@
+// Skeletons, animations and forward kinematics (single pose and (F, J, 8) batches), BVH and
+// motion files, model import.
+#include "batch.hpp"
+#include "dq/anim/animation.hpp"
+#include "dq/anim/forward_kinematics.hpp"
+#include "dq/anim/skeleton.hpp"
+#include "dq/io/bvh.hpp"
+#include "dq/io/file.hpp"
+#include "dq/io/motion.hpp"
+#ifdef DQKIT_PY_HAVE_IMPORT
+#include "dq/io/scene.hpp"
+#endif
+
+namespace dqpy {
+namespace {
+
+using DQd = dq::DualQuaternion<double>;
+
+/// Parents from a Skeleton or a sequence of ints, checked (parent[j] < j, ≥ −1).
+std::vector<int> parents_of(py::handle obj) {
+  if (py::isinstance<dq::Skeleton>(obj)) {
+    const auto p = obj.cast<const dq::Skeleton&>().parents();
+    return {p.begin(), p.end()};
+  }
+  const auto a = py::array_t<int, py::array::c_style | py::array::forcecast>::ensure(obj);
+  if (!a || a.ndim() != 1) {
+    PyErr_Clear();
+    throw py::value_error("parents: expected a Skeleton or a sequence of J ints, shape (J,)");
+  }
+  std::vector<int> p(a.data(), a.data() + a.size());
+  for (std::size_t j = 0; j < p.size(); ++j)
+    if (p[j] < -1 || p[j] >= static_cast<int>(j))
+      throw py::value_error("parents: joint " + std::to_string(j) + " has parent " + std::to_string(p[j]) +
+                            "; every parent must be −1 or come before its child");
+  return p;
+}
+
+void bind_skeleton(py::module_& m) {
+  py::class_<dq::RawSkeleton>(m, "RawSkeleton", "A skeleton as built or imported: joints with parents and rest transforms.")
+      .def(py::init<>())
+      .def("add", &dq::RawSkeleton::add, py::arg("name"), py::arg("parent"), py::arg("rest") = DQd{}, py::arg("end_site") = false,
+           "Appends a joint (parent −1 for a root) and returns its index.")
+      .def("__len__", [](const dq::RawSkeleton& r) { return r.joints.size(); });
+  py::class_<dq::Skeleton>(m, "Skeleton", "The runtime skeleton: parents before children, immutable.")
+      .def(py::init([](const dq::RawSkeleton& raw) { return unwrap(dq::build_skeleton(raw)); }), py::arg("raw"),
+           "build_skeleton(raw); raises ReadError naming the joint when invalid.")
+      .def("__len__", &dq::Skeleton::size)
+      .def("size", &dq::Skeleton::size)
+      .def_property_readonly("parents", [](const dq::Skeleton& s) { return py::array_t<int>(static_cast<py::ssize_t>(s.size()), s.parents().data()); })
+      .def_property_readonly("names", [](const dq::Skeleton& s) { return std::vector<std::string>(s.names().begin(), s.names().end()); })
+      .def_property_readonly("rest_pose", [](const dq::Skeleton& s) {
+        return dual_quaternions_to_numpy(s.rest_pose(), {static_cast<py::ssize_t>(s.size()), 8});
+      }, "(J, 8) local rest transforms.")
+      .def("is_end_site", &dq::Skeleton::is_end_site, py::arg("j"))
+      .def("find", &dq::Skeleton::find, py::arg("name"), "The joint's index, or −1.")
+      .def("subtree_end", &dq::Skeleton::subtree_end, py::arg("j"), "One past the last joint of j's subtree.")
+      .def("__repr__", [](const dq::Skeleton& s) { return "Skeleton(" + std::to_string(s.size()) + " joints)"; });
+  m.def("build_skeleton", [](const dq::RawSkeleton& raw) { return unwrap(dq::build_skeleton(raw)); }, py::arg("raw"));
+
+  py::enum_<dq::Interpolation>(m, "Interpolation")
+      .value("screw", dq::Interpolation::screw)
+      .value("dual_quaternion_linear", dq::Interpolation::dual_quaternion_linear)
+      .value("decoupled", dq::Interpolation::decoupled)
+      .value("matrix", dq::Interpolation::matrix);
+  py::enum_<dq::WrapMode>(m, "WrapMode").value("clamp", dq::WrapMode::clamp).value("loop", dq::WrapMode::loop);
+  py::class_<dq::Animation>(m, "Animation", "Local joint transforms per frame, frame-major.")
+      .def(py::init([](py::handle locals, double frame_time) {
+             auto a = as_float64(locals, {-1, -1, 8}, "locals (F, J, 8)");
+             dq::Animation anim;
+             anim.frame_time = frame_time;
+             anim.frame_count = static_cast<std::size_t>(a.shape(0));
+             anim.joint_count = static_cast<std::size_t>(a.shape(1));
+             anim.locals = dual_quaternions_from_numpy(a.reshape({a.shape(0) * a.shape(1), py::ssize_t{8}}), "locals");
+             return anim;
+           }),
+           py::arg("locals"), py::arg("frame_time"))
+      .def_readwrite("frame_time", &dq::Animation::frame_time)
+      .def_readonly("frame_count", &dq::Animation::frame_count)
+      .def_readonly("joint_count", &dq::Animation::joint_count)
+      .def("duration", &dq::Animation::duration)
+      .def_property_readonly("locals", [](const dq::Animation& a) {
+        return dual_quaternions_to_numpy(a.locals, {static_cast<py::ssize_t>(a.frame_count), static_cast<py::ssize_t>(a.joint_count), 8});
+      }, "(F, J, 8) local transforms (a copy).")
+      .def("__repr__", [](const dq::Animation& a) {
+        return "Animation(" + std::to_string(a.frame_count) + " frames, " + std::to_string(a.joint_count) + " joints)";
+      });
+  m.def("sample", [](const dq::Animation& anim, double time, dq::Interpolation mode, dq::WrapMode wrap) {
+          std::vector<DQd> out(anim.joint_count);
+          dq::sample<double>(anim, time, mode, wrap, out);
+          return dual_quaternions_to_numpy(out, {static_cast<py::ssize_t>(out.size()), 8});
+        },
+        py::arg("animation"), py::arg("time"), py::arg("mode") = dq::Interpolation::screw, py::arg("wrap") = dq::WrapMode::clamp,
+        "(J, 8) local transforms at `time` seconds.");
+  m.def("interpolate", [](const DQd& a, const DQd& b, double u, dq::Interpolation mode) { return dq::interpolate(a, b, u, mode); },
+        py::arg("a"), py::arg("b"), py::arg("u"), py::arg("mode"));
+
+  m.def("local_to_model", [](py::handle parents_obj, py::array local) {
+    const std::vector<int> parents = parents_of(parents_obj);
+    const auto joints = std::to_string(parents.size());
+    return with_dtype(call_dtype(local, "local"), [&]<class T>() -> py::array {
+      const BatchInput in = batch_input(local, {"F", "J", "8"}, dtype_of_v<T>, "local", true);
+      const py::ssize_t j_axis = in.array.ndim() - 2;
+      if (static_cast<std::size_t>(in.array.shape(j_axis)) != parents.size())
+        throw py::value_error("local: expected shape (F, " + joints + ", 8) or (" + joints + ", 8) for a skeleton of " + joints +
+                              " joints, got J = " + std::to_string(in.array.shape(j_axis)));
+      std::vector<py::ssize_t> shape(in.array.shape(), in.array.shape() + in.array.ndim());
+      py::array_t<T> out(shape);
+      const std::size_t frames = in.single ? 1 : static_cast<std::size_t>(in.array.shape(0));
+      const auto* x = as_values<dq::DualQuaternion<T>>(data_of<T>(in));
+      auto* o = as_values<dq::DualQuaternion<T>>(out.mutable_data());
+      const std::size_t n = parents.size();
+      py::gil_scoped_release release;
+      for (std::size_t f = 0; f < frames; ++f)
+        dq::local_to_model<dq::DualQuaternion<T>>(parents, std::span(x + f * n, n), std::span(o + f * n, n));
+      return out;
+    });
+  }, py::arg("skeleton"), py::arg("local"),
+     "Forward kinematics: model[j] = model[parent(j)] · local[j] for (F, J, 8) or (J, 8) local poses; "
+     "`skeleton` is a Skeleton or the (J,) parents.");
+}
+
+void bind_files(py::module_& m) {
+  py::enum_<dq::BvhChannel>(m, "BvhChannel")
+      .value("Xposition", dq::BvhChannel::Xposition).value("Yposition", dq::BvhChannel::Yposition)
+      .value("Zposition", dq::BvhChannel::Zposition).value("Xrotation", dq::BvhChannel::Xrotation)
+      .value("Yrotation", dq::BvhChannel::Yrotation).value("Zrotation", dq::BvhChannel::Zrotation);
+  py::class_<dq::BvhJoint>(m, "BvhJoint")
+      .def_readonly("name", &dq::BvhJoint::name)
+      .def_readonly("parent", &dq::BvhJoint::parent)
+      .def_readonly("offset", &dq::BvhJoint::offset)
+      .def_readonly("channels", &dq::BvhJoint::channels)
+      .def_readonly("end_site", &dq::BvhJoint::end_site)
+      .def_readonly("first_channel", &dq::BvhJoint::first_channel)
+      .def("__repr__", [](const dq::BvhJoint& j) { return "BvhJoint('" + j.name + "', parent=" + std::to_string(j.parent) + ")"; });
+  py::class_<dq::BvhFile>(m, "BvhFile", "A BVH file as written: hierarchy, channels and the motion values (degrees).")
+      .def_readonly("joints", &dq::BvhFile::joints)
+      .def_readonly("frame_count", &dq::BvhFile::frame_count)
+      .def_readonly("frame_time", &dq::BvhFile::frame_time)
+      .def_readonly("warnings", &dq::BvhFile::warnings)
+      .def("channel_count", &dq::BvhFile::channel_count)
+      .def_property("motion",
+                    [](const dq::BvhFile& b) {
+                      return py::array_t<double>({static_cast<py::ssize_t>(b.frame_count), static_cast<py::ssize_t>(b.channel_count())}, b.motion.data());
+                    },
+                    [](dq::BvhFile& b, py::handle values) {
+                      const auto a = as_float64(values, {static_cast<py::ssize_t>(b.frame_count), static_cast<py::ssize_t>(b.channel_count())}, "motion");
+                      b.motion.assign(a.data(), a.data() + a.size());
+                    },
+                    "(frames, channels) values as in the file (a copy; assign an array of the same shape to change them).")
+      .def("__repr__", [](const dq::BvhFile& b) {
+        return "BvhFile(" + std::to_string(b.joints.size()) + " joints, " + std::to_string(b.frame_count) + " frames)";
+      });
+  m.def("read_bvh_file", [](const std::string& path) {
+    dq::Expected<dq::BvhFile> r = [&] { py::gil_scoped_release release; return dq::read_bvh_file(path); }();
+    return unwrap(std::move(r));
+  }, py::arg("path"), "Reads a BVH file; raises ReadError with 'file:line: what'.");
+  m.def("read_bvh", [](const std::string& text, const std::string& source) { return unwrap(dq::read_bvh(text, source)); },
+        py::arg("text"), py::arg("source") = "<bvh>", "Parses BVH text; errors name `source` and the line.");
+  m.def("write_bvh", [](const dq::BvhFile& b) { return dq::write_bvh(b); }, py::arg("bvh"), "The BVH text.");
+  m.def("write_bvh_file", [](const dq::BvhFile& b, const std::string& path, bool overwrite) {
+    check(dq::write_file_atomically(path, dq::write_bvh(b), overwrite ? dq::Overwrite::allow : dq::Overwrite::refuse));
+  }, py::arg("bvh"), py::arg("path"), py::arg("overwrite") = false, "Writes atomically; refuses an existing file unless overwrite.");
+  m.def("with_rotation_order", [](const dq::BvhFile& b, dq::EulerOrder o) { return unwrap(dq::with_rotation_order(b, o)); },
+        py::arg("bvh"), py::arg("order"));
+  m.def("bvh_skeleton", [](const dq::BvhFile& b) { return unwrap(dq::bvh_skeleton(b)); }, py::arg("bvh"));
+  m.def("bvh_animation", &dq::bvh_animation, py::arg("bvh"), py::arg("skeleton"), "Every frame's local transforms.");
+  m.def("bvh_local_transform", &dq::bvh_local_transform, py::arg("bvh"), py::arg("joint"), py::arg("frame"));
+  m.def("to_bvh", [](const dq::Skeleton& s, const dq::Animation& a, dq::EulerOrder o) { return unwrap(dq::to_bvh(s, a, o)); },
+        py::arg("skeleton"), py::arg("animation"), py::arg("order") = dq::EulerOrder::ZXY);
+
+  py::class_<dq::MotionOptions>(m, "MotionOptions")
+      .def(py::init<>())
+      .def_readwrite("animation", &dq::MotionOptions::animation)
+      .def_readwrite("sample_rate", &dq::MotionOptions::sample_rate)
+      .def_readwrite("import_timeout", &dq::MotionOptions::import_timeout)
+      .def_readwrite("memory_limit_mb", &dq::MotionOptions::memory_limit_mb);
+  py::class_<dq::Motion>(m, "Motion", "A skeleton and its animation, from a BVH file or an imported model.")
+      .def_readonly("format", &dq::Motion::format)
+      .def_readonly("skeleton", &dq::Motion::skeleton)
+      .def_readonly("animation", &dq::Motion::animation)
+      .def_readonly("bvh", &dq::Motion::bvh)
+      .def_readonly("animation_count", &dq::Motion::animation_count)
+      .def_readonly("warnings", &dq::Motion::warnings);
+  m.def("load_motion", [](const std::string& path, const dq::MotionOptions& o) {
+    dq::Expected<dq::Motion> r = [&] { py::gil_scoped_release release; return dq::load_motion(path, o); }();
+    return unwrap(std::move(r));
+  }, py::arg("path"), py::arg("options") = dq::MotionOptions{}, "A BVH file's motion (other formats: import_motion).");
+}
+
+#ifdef DQKIT_PY_HAVE_IMPORT
+void bind_import(py::module_& m) {
+  py::class_<dq::ImportOptions>(m, "ImportOptions")
+      .def(py::init<>())
+      .def_readwrite("sample_rate", &dq::ImportOptions::sample_rate)
+      .def_readwrite("meshes", &dq::ImportOptions::meshes)
+      .def_readwrite("lights_and_cameras", &dq::ImportOptions::lights_and_cameras)
+      .def_readwrite("isolate", &dq::ImportOptions::isolate)
+      .def_readwrite("timeout_seconds", &dq::ImportOptions::timeout_seconds)
+      .def_readwrite("cpu_limit_seconds", &dq::ImportOptions::cpu_limit_seconds)
+      .def_readwrite("memory_limit_mb", &dq::ImportOptions::memory_limit_mb)
+      .def_readwrite("result_limit_mb", &dq::ImportOptions::result_limit_mb)
+      .def_property("worker_path", [](const dq::ImportOptions& o) { return o.worker_path.string(); },
+                    [](dq::ImportOptions& o, const std::string& p) { o.worker_path = p; });
+  py::class_<dq::ImportedMesh>(m, "ImportedMesh")
+      .def_readonly("name", &dq::ImportedMesh::name)
+      .def_property_readonly("positions", [](const dq::ImportedMesh& me) {
+        return py::array_t<float>({static_cast<py::ssize_t>(me.positions.size()), py::ssize_t{3}}, &me.positions.data()->x);
+      }, "(V, 3) float32 bind-pose positions (a copy).")
+      .def_property_readonly("triangles", [](const dq::ImportedMesh& me) {
+        return py::array_t<std::uint32_t>({static_cast<py::ssize_t>(me.indices.size() / 3), py::ssize_t{3}}, me.indices.data());
+      })
+      .def_readonly("bone_joints", &dq::ImportedMesh::bone_joints)
+      .def_readonly("node_joint", &dq::ImportedMesh::node_joint);
+  py::class_<dq::ImportedAnimation>(m, "ImportedAnimation")
+      .def_readonly("name", &dq::ImportedAnimation::name)
+      .def_readonly("animation", &dq::ImportedAnimation::animation);
+  py::class_<dq::ImportedScene>(m, "ImportedScene", "A model through Assimp: skeleton (every node), meshes and skins, animations.")
+      .def_readonly("skeleton", &dq::ImportedScene::skeleton)
+      .def_readonly("joint_scale", &dq::ImportedScene::joint_scale)
+      .def_readonly("meshes", &dq::ImportedScene::meshes)
+      .def_readonly("animations", &dq::ImportedScene::animations)
+      .def_readonly("warnings", &dq::ImportedScene::warnings);
+  // Imports run in the spawned dqkit-import-worker (posix_spawn, never a fork of the interpreter);
+  // the package points DQKIT_IMPORT_WORKER at its own copy (dqkit/__init__.py).
+  m.def("import_scene", [](const std::string& path, const dq::ImportOptions& o) {
+    dq::Expected<dq::ImportedScene> r = [&] { py::gil_scoped_release release; return dq::import_scene(path, o); }();
+    return unwrap(std::move(r));
+  }, py::arg("path"), py::arg("options") = dq::ImportOptions{}, "Imports a model (glTF, FBX, Collada, X, ...) in the isolated worker.");
+  m.def("import_motion", [](const std::string& path, const dq::MotionOptions& o) {
+    dq::Expected<dq::Motion> r = [&] { py::gil_scoped_release release; return dq::import_motion(path, o); }();
+    return unwrap(std::move(r));
+  }, py::arg("path"), py::arg("options") = dq::MotionOptions{}, "The motion of any importable file (BVH through load_motion).");
+  m.attr("HAVE_IMPORT") = true;
+}
+#endif
+
+}  // namespace
+
+void bind_anim(py::module_& m) {
+  bind_skeleton(m);
+}
+
+void bind_io(py::module_& m) {
+  bind_files(m);
+#ifdef DQKIT_PY_HAVE_IMPORT
+  bind_import(m);
+#else
+  m.attr("HAVE_IMPORT") = false;
+#endif
+}
+
+}  // namespace dqpy

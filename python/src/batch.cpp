@@ -1,0 +1,168 @@
+// Batch functions over NumPy arrays: one C++ loop per call, GIL released, float32 and float64,
+// the caller's buffers read in place when they are C-contiguous. Shapes: (N, 8) dual quaternions
+// (w, x, y, z real, then dual), (N, 4) quaternions, (N, 3) points, (N, 4, 4) / (N, 3, 3)
+// matrices indexed [n, row, column]. Every input may also be a single value (shape without N),
+// used for all N.
+#include "batch.hpp"
+
+namespace dqpy {
+
+std::size_t broadcast_count(std::initializer_list<std::pair<const BatchInput*, const char*>> inputs) {
+  std::size_t n = 1;
+  const char* from = nullptr;
+  for (const auto& [in, name] : inputs) {
+    if (in->single || in->count == n) continue;
+    if (n != 1 && in->count != 1)
+      throw py::value_error(std::string(name) + ": N = " + std::to_string(in->count) + " does not match " + from + "'s N = " +
+                            std::to_string(n));
+    if (in->count != 1 || !from) n = in->count, from = name;
+  }
+  return n;
+}
+
+namespace {
+
+template <class T>
+using DQ = dq::DualQuaternion<T>;
+template <class T>
+using Q = dq::Quaternion<T>;
+template <class T>
+using V = dq::Vec3<T>;
+
+/// A matrix as NumPy stores it: row-major, [row, column].
+template <class T, int R, int C>
+struct RowMajor {
+  T v[R * C];
+};
+template <class T, int R, int C>
+RowMajor<T, R, C> row_major(const dq::Mat<T, R, C>& m) {
+  RowMajor<T, R, C> out;
+  for (int r = 0; r < R; ++r)
+    for (int c = 0; c < C; ++c) out.v[r * C + c] = m(r, c);
+  return out;
+}
+template <class T, int R, int C>
+dq::Mat<T, R, C> from_row_major(const RowMajor<T, R, C>& a) {
+  dq::Mat<T, R, C> m;
+  for (int r = 0; r < R; ++r)
+    for (int c = 0; c < C; ++c) m(r, c) = a.v[r * C + c];
+  return m;
+}
+
+template <class T>
+using RowMajor4 = RowMajor<T, 4, 4>;
+template <class T>
+using RowMajor3 = RowMajor<T, 3, 3>;
+
+const std::vector<const char*> dq_shape{"N", "8"}, q_shape{"N", "4"}, p_shape{"N", "3"}, t_shape{"N"};
+
+void bind_products(py::module_& m) {
+  m.def("dual_quaternion_product", [](py::array a, py::array b) {
+    return map2<DQ, DQ, DQ>(a, b, "a", "b", dq_shape, dq_shape, {8}, [](const auto& x, const auto& y) { return x * y; });
+  }, py::arg("a"), py::arg("b"), "Row-wise products a[i] b[i] of (N, 8) dual quaternions (b applied first).");
+  m.def("quaternion_product", [](py::array a, py::array b) {
+    return map2<Q, Q, Q>(a, b, "a", "b", q_shape, q_shape, {4}, [](const auto& x, const auto& y) { return x * y; });
+  }, py::arg("a"), py::arg("b"), "Row-wise Hamilton products of (N, 4) quaternions.");
+  m.def("transform_point", [](py::array q, py::array p) {
+    return map2<DQ, V, V>(q, p, "q", "p", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_point(y); });
+  }, py::arg("q"), py::arg("p"), "R p + t for (N, 8) unit dual quaternions and (N, 3) points.");
+  m.def("transform_direction", [](py::array q, py::array v) {
+    return map2<DQ, V, V>(q, v, "q", "v", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_direction(y); });
+  }, py::arg("q"), py::arg("v"), "R v for (N, 8) unit dual quaternions and (N, 3) directions.");
+  m.def("rotate", [](py::array q, py::array v) {
+    return map2<Q, V, V>(q, v, "q", "v", q_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.rotate(y); });
+  }, py::arg("q"), py::arg("v"), "q v q* for (N, 4) unit quaternions and (N, 3) vectors.");
+  m.def("normalized", [](py::array q) {
+    return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.normalized(); });
+  }, py::arg("q"), "Each (N, 8) dual quaternion made unit (DualQuaternion.normalized).");
+  m.def("conjugate", [](py::array q) {
+    return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.conjugate(); });
+  }, py::arg("q"), "Q* of each (N, 8) dual quaternion: the inverse of a unit one.");
+}
+
+void bind_conversions(py::module_& m) {
+  m.def("to_mat4", [](py::array q) {
+    return map1<DQ, RowMajor4>(q, "q", dq_shape, {4, 4}, [](const auto& x) { return row_major(dq::to_mat4(x)); });
+  }, py::arg("q"), "(N, 4, 4) matrices [n, row, column] of (N, 8) unit dual quaternions.");
+  m.def("from_matrix", [](py::array mat) {
+    return map1<RowMajor4, DQ>(mat, "matrix", {"N", "4", "4"}, {8}, [](const auto& x) { return dq::from_matrix(from_row_major(x)); });
+  }, py::arg("matrix"), "(N, 8) unit dual quaternions of (N, 4, 4) rigid transforms.");
+  m.def("quaternion_to_matrix", [](py::array q) {
+    return map1<Q, RowMajor3>(q, "q", q_shape, {3, 3}, [](const auto& x) { return row_major(x.to_matrix()); });
+  }, py::arg("q"), "(N, 3, 3) rotation matrices of (N, 4) unit quaternions (Quaternion.to_matrix).");
+  m.def("quaternion_from_matrix", [](py::array mat) {
+    return map1<RowMajor3, Q>(mat, "matrix", {"N", "3", "3"}, {4}, [](const auto& x) {
+      using T = std::remove_cvref_t<decltype(x.v[0])>;
+      return Q<T>::from_matrix(from_row_major(x));
+    });
+  }, py::arg("matrix"), "(N, 4) unit quaternions of (N, 3, 3) rotation matrices (Quaternion.from_matrix).");
+  m.def("from_rotation_translation", [](py::array r, py::array t) {
+    return map2<Q, V, DQ>(r, t, "r", "t", q_shape, p_shape, {8}, [](const auto& x, const auto& y) {
+      return std::remove_cvref_t<decltype(dq::DualQuaternion(x, x))>::from_rotation_translation(x, y);
+    });
+  }, py::arg("r"), py::arg("t"), "(N, 8) transforms: rotate by r[i], then translate by t[i].");
+  m.def("translation", [](py::array q) {
+    return map1<DQ, V>(q, "q", dq_shape, {3}, [](const auto& x) { return x.translation(); });
+  }, py::arg("q"), "(N, 3) translations 2 q_d q_r* of (N, 8) unit dual quaternions.");
+  m.def("rotation", [](py::array q) {
+    return map1<DQ, Q>(q, "q", dq_shape, {4}, [](const auto& x) { return x.real; });
+  }, py::arg("q"), "(N, 4) rotations (the real parts) of (N, 8) dual quaternions.");
+  m.def("from_rotation_vector", [](py::array v) {
+    return map1<V, Q>(v, "v", p_shape, {4}, [](const auto& x) {
+      using T = std::remove_cvref_t<decltype(x.x)>;
+      return Q<T>::from_rotation_vector(x);
+    });
+  }, py::arg("v"), "(N, 4) rotations of (N, 3) rotation vectors.");
+  m.def("to_rotation_vector", [](py::array q) {
+    return map1<Q, V>(q, "q", q_shape, {3}, [](const auto& x) { return x.to_rotation_vector(); });
+  }, py::arg("q"), "(N, 3) rotation vectors (angle in [0, π]) of (N, 4) unit quaternions.");
+  m.def("from_euler", [](dq::EulerOrder order, dq::EulerFrame frame, py::array angles) {
+    return map1<V, Q>(angles, "angles", p_shape, {4}, [&](const auto& x) { return dq::from_euler(order, frame, x.x, x.y, x.z); });
+  }, py::arg("order"), py::arg("frame"), py::arg("angles"), "(N, 4) rotations of (N, 3) Euler triples (a, b, c).");
+  m.def("to_euler", [](py::array q, dq::EulerOrder order, dq::EulerFrame frame) {
+    py::array singular;
+    py::array angles = map1<Q, V>(q, "q", q_shape, {3}, [&](const auto& x) {
+      const auto e = dq::to_euler(x, order, frame);
+      return V<std::remove_cvref_t<decltype(x.w)>>{e.angles.a, e.angles.b, e.angles.c};
+    });
+    // The flags, in a second pass (cheap next to the extraction, and keeps map1 single-output).
+    const Dtype d = call_dtype(q, "q");
+    singular = py::array_t<bool>(angles.ndim() == 1 ? std::vector<py::ssize_t>{} : std::vector<py::ssize_t>{angles.shape(0)});
+    auto* flags = static_cast<bool*>(singular.mutable_data());
+    with_dtype(d, [&]<class T>() {
+      const BatchInput in = batch_input(q, q_shape, d, "q", true);
+      const Q<T>* qs = as_values<Q<T>>(data_of<T>(in));
+      py::gil_scoped_release release;
+      for (std::size_t i = 0; i < in.count; ++i) flags[i] = dq::to_euler(qs[i], order, frame).singular;
+    });
+    return py::make_tuple(angles, singular);
+  }, py::arg("q"), py::arg("order"), py::arg("frame"),
+     "Euler triples (N, 3) and gimbal-lock flags (N,) of (N, 4) unit quaternions.");
+}
+
+void bind_interpolation(py::module_& m) {
+  m.def("slerp", [](py::array a, py::array b, py::object t, dq::Path path) {
+    return map3<Q, Q, Q>(a, b, t, "a", "b", q_shape, q_shape, {4},
+                         [path](const auto& x, const auto& y, auto s) { return dq::slerp(x, y, s, path); });
+  }, py::arg("a"), py::arg("b"), py::arg("t"), py::arg("path") = dq::Path::shortest,
+     "Row-wise slerp of (N, 4) quaternions; t a number or (N,).");
+  m.def("sclerp", [](py::array a, py::array b, py::object t, dq::Path path) {
+    return map3<DQ, DQ, DQ>(a, b, t, "a", "b", dq_shape, dq_shape, {8},
+                            [path](const auto& x, const auto& y, auto s) { return dq::sclerp(x, y, s, path); });
+  }, py::arg("a"), py::arg("b"), py::arg("t"), py::arg("path") = dq::Path::shortest,
+     "Row-wise screw interpolation of (N, 8) unit dual quaternions; t a number or (N,).");
+  m.def("dlb", [](py::array a, py::array b, py::object t) {
+    return map3<DQ, DQ, DQ>(a, b, t, "a", "b", dq_shape, dq_shape, {8},
+                            [](const auto& x, const auto& y, auto s) { return dq::dlb(x, y, s); });
+  }, py::arg("a"), py::arg("b"), py::arg("t"), "Row-wise dual quaternion linear blending of (N, 8) keys; t a number or (N,).");
+}
+
+}  // namespace
+
+void bind_batch(py::module_& m) {
+  bind_products(m);
+  bind_conversions(m);
+  bind_interpolation(m);
+}
+
+}  // namespace dqpy

@@ -1,0 +1,79 @@
+// The element-wise machinery of the batch functions (batch.cpp, and the skeleton batch in anim.cpp).
+#pragma once
+
+#include "common.hpp"
+
+namespace dqpy {
+
+/// Runs `f.template operator()<T>()` with T = float or double.
+template <class F>
+decltype(auto) with_dtype(Dtype d, F&& f) {
+  if (d == Dtype::f32) return f.template operator()<float>();
+  return f.template operator()<double>();
+}
+
+/// The common N of inputs that are either (N, ...) or single values; ValueError when two differ.
+std::size_t broadcast_count(std::initializer_list<std::pair<const BatchInput*, const char*>> inputs);
+
+inline std::vector<py::ssize_t> out_shape(bool single, std::size_t n, const std::vector<py::ssize_t>& tail) {
+  std::vector<py::ssize_t> s;
+  if (!single) s.push_back(static_cast<py::ssize_t>(n));
+  s.insert(s.end(), tail.begin(), tail.end());
+  return s;
+}
+
+/// out[i] = f(a[i]) over the rows of `a`, items reinterpreted as A<T> and R<T>.
+template <template <class> class A, template <class> class R, class F>
+py::array map1(const py::array& a, const char* name, const std::vector<const char*>& shape, const std::vector<py::ssize_t>& tail, F f) {
+  return with_dtype(call_dtype(a, name), [&]<class T>() -> py::array {
+    const BatchInput in = batch_input(a, shape, dtype_of_v<T>, name, true);
+    py::array_t<T> out(out_shape(in.single, in.count, tail));
+    const A<T>* x = as_values<A<T>>(data_of<T>(in));
+    R<T>* o = as_values<R<T>>(out.mutable_data());
+    py::gil_scoped_release release;
+    for (std::size_t i = 0; i < in.count; ++i) o[i] = f(x[i]);
+    return out;
+  });
+}
+
+/// out[i] = f(a[i], b[i]); a single a or b is used for every row.
+template <template <class> class A, template <class> class B, template <class> class R, class F>
+py::array map2(const py::array& a, const py::array& b, const char* na, const char* nb, const std::vector<const char*>& sa,
+               const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f) {
+  return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
+    const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);
+    const std::size_t n = broadcast_count({{&ia, na}, {&ib, nb}});
+    const std::size_t da = ia.count == 1 ? 0 : 1, db = ib.count == 1 ? 0 : 1;
+    py::array_t<T> out(out_shape(ia.single && ib.single, n, tail));
+    const A<T>* x = as_values<A<T>>(data_of<T>(ia));
+    const B<T>* y = as_values<B<T>>(data_of<T>(ib));
+    R<T>* o = as_values<R<T>>(out.mutable_data());
+    py::gil_scoped_release release;
+    for (std::size_t i = 0; i < n; ++i) o[i] = f(x[i * da], y[i * db]);
+    return out;
+  });
+}
+
+/// out[i] = f(a[i], b[i], t[i]) with t a number or an (N,) array.
+template <template <class> class A, template <class> class B, template <class> class R, class F>
+py::array map3(const py::array& a, const py::array& b, const py::object& t, const char* na, const char* nb,
+               const std::vector<const char*>& sa, const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f) {
+  return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
+    const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);
+    // A Python number takes the call's dtype; an ndarray t must match it.
+    const BatchInput it = batch_input(py::isinstance<py::array>(t) ? t : py::object(py::array_t<T>(std::vector<py::ssize_t>{}, std::vector<T>{t.cast<T>()}.data())),
+                                      {"N"}, dtype_of_v<T>, "t", true);
+    const std::size_t n = broadcast_count({{&ia, na}, {&ib, nb}, {&it, "t"}});
+    const std::size_t da = ia.count == 1 ? 0 : 1, db = ib.count == 1 ? 0 : 1, dt = it.count == 1 ? 0 : 1;
+    py::array_t<T> out(out_shape(ia.single && ib.single && it.single, n, tail));
+    const A<T>* x = as_values<A<T>>(data_of<T>(ia));
+    const B<T>* y = as_values<B<T>>(data_of<T>(ib));
+    const T* s = data_of<T>(it);
+    R<T>* o = as_values<R<T>>(out.mutable_data());
+    py::gil_scoped_release release;
+    for (std::size_t i = 0; i < n; ++i) o[i] = f(x[i * da], y[i * db], s[i * dt]);
+    return out;
+  });
+}
+
+}  // namespace dqpy

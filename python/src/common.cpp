@@ -1,0 +1,96 @@
+#include "common.hpp"
+
+namespace dqpy {
+
+namespace {
+std::string shape_of(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+bool is_fixed(const char* d) { return d[0] >= '0' && d[0] <= '9'; }
+}  // namespace
+
+std::string shape_text(const std::vector<const char*>& dims) {
+  std::string s = "(";
+  for (std::size_t i = 0; i < dims.size(); ++i) s += (i ? ", " : "") + std::string(dims[i]);
+  return s + (dims.size() == 1 ? ",)" : ")");
+}
+
+py::array_t<double, py::array::c_style | py::array::forcecast> as_float64(py::handle obj, std::vector<py::ssize_t> shape,
+                                                                           const char* what) {
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+  if (!a) {
+    PyErr_Clear();
+    throw py::value_error(std::string(what) + ": expected numbers convertible to float64");
+  }
+  bool ok = a.ndim() == static_cast<py::ssize_t>(shape.size());
+  for (std::size_t i = 0; ok && i < shape.size(); ++i) ok = shape[i] < 0 || a.shape(static_cast<py::ssize_t>(i)) == shape[i];
+  if (!ok) {
+    std::string expected = "(";
+    for (std::size_t i = 0; i < shape.size(); ++i)
+      expected += (i ? ", " : "") + (shape[i] < 0 ? std::string("N") : std::to_string(shape[i]));
+    expected += shape.size() == 1 ? ",)" : ")";
+    throw py::value_error(std::string(what) + ": expected shape " + expected + ", got " + shape_of(a));
+  }
+  return a;
+}
+
+Dtype call_dtype(py::handle first, const char* name) {
+  return py::isinstance<py::array>(first) ? dtype_of(py::reinterpret_borrow<py::array>(first), name) : Dtype::f64;
+}
+
+Dtype dtype_of(const py::array& a, const char* name) {
+  if (a.dtype().is(py::dtype::of<float>())) return Dtype::f32;
+  if (a.dtype().is(py::dtype::of<double>())) return Dtype::f64;
+  throw py::value_error(std::string(name) + ": expected dtype float32 or float64, got " + py::str(a.dtype()).cast<std::string>());
+}
+
+BatchInput batch_input(py::handle obj, const std::vector<const char*>& dims, Dtype dtype, const char* name, bool optional_leading) {
+  py::array a = py::array::ensure(obj);
+  if (!a) {
+    PyErr_Clear();
+    throw py::value_error(std::string(name) + ": expected an array of shape " + shape_text(dims));
+  }
+  // An ndarray keeps its dtype (float32 or float64, the same for every input of a call); lists,
+  // tuples and objects with __array__ take the call's.
+  if (py::isinstance<py::array>(obj) && dtype_of(a, name) != dtype)
+    throw py::value_error(std::string(name) + ": dtype " + py::str(a.dtype()).cast<std::string>() +
+                          " does not match the other inputs' " + (dtype == Dtype::f32 ? "float32" : "float64"));
+  py::array c = dtype == Dtype::f32 ? py::array(py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a))
+                                    : py::array(py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a));
+  const std::size_t want = dims.size();
+  const bool full = static_cast<std::size_t>(c.ndim()) == want;
+  const bool short_form = optional_leading && static_cast<std::size_t>(c.ndim()) + 1 == want;
+  bool ok = full || short_form;
+  const std::size_t skip = full ? 0 : 1;
+  std::size_t count = 1;
+  for (std::size_t i = skip; ok && i < want; ++i) {
+    const auto extent = c.shape(static_cast<py::ssize_t>(i - skip));
+    if (is_fixed(dims[i]))
+      ok = extent == std::stol(dims[i]);
+    else
+      count *= static_cast<std::size_t>(extent);
+  }
+  if (!ok) {
+    std::string expected = shape_text(dims);
+    if (optional_leading) expected += " or " + shape_text(std::vector<const char*>(dims.begin() + 1, dims.end()));
+    throw py::value_error(std::string(name) + ": expected shape " + expected + ", got " + shape_of(a));
+  }
+  return {std::move(c), count, short_form};
+}
+
+py::array_t<double> dual_quaternions_to_numpy(std::span<const dq::DualQuaternion<double>> qs, std::vector<py::ssize_t> shape) {
+  py::array_t<double> a(std::move(shape));
+  std::memcpy(a.mutable_data(), qs.data(), qs.size() * sizeof(dq::DualQuaternion<double>));
+  return a;
+}
+
+std::vector<dq::DualQuaternion<double>> dual_quaternions_from_numpy(py::handle obj, const char* name) {
+  const auto a = as_float64(obj, {-1, 8}, name);
+  std::vector<dq::DualQuaternion<double>> out(static_cast<std::size_t>(a.shape(0)));
+  std::memcpy(out.data(), a.data(), out.size() * sizeof(dq::DualQuaternion<double>));
+  return out;
+}
+
+}  // namespace dqpy

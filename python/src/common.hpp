@@ -1,0 +1,159 @@
+// Shared pieces of the Python bindings: NumPy conversions of the small value types, checked views
+// of the arrays the batch functions take, and errors as Python exceptions.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "dq/dq.hpp"
+#include "dq/util/expected.hpp"
+
+namespace py = pybind11;
+
+namespace dqpy {
+
+/// Raised by the file readers and builders: the library's message ("file:line: ..."). A subclass
+/// of ValueError, registered in module.cpp.
+struct ReadError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+template <class T>
+T unwrap(dq::Expected<T>&& e) {
+  if (!e) throw ReadError(e.error().message);
+  return std::move(*e);
+}
+inline void check(const dq::Status& s) {
+  if (!s) throw ReadError(s.error().message);
+}
+
+/// The text of operator<< (the C++ printing, w, x, y, z order).
+template <class X>
+std::string str_of(const X& x) {
+  std::ostringstream os;
+  os.precision(17);
+  os << x;
+  return os.str();
+}
+
+// ---- fixed-size values <-> NumPy ----------------------------------------------------------------
+inline py::array_t<double> vec_to_numpy(const dq::Vec3<double>& v) {
+  py::array_t<double> a(3);
+  auto m = a.mutable_unchecked<1>();
+  m(0) = v.x, m(1) = v.y, m(2) = v.z;
+  return a;
+}
+/// A (R, C) array indexed [row, column] from the column-major matrix.
+template <int R, int C>
+py::array_t<double> mat_to_numpy(const dq::Mat<double, R, C>& m) {
+  py::array_t<double> a({R, C});
+  auto o = a.template mutable_unchecked<2>();
+  for (int r = 0; r < R; ++r)
+    for (int c = 0; c < C; ++c) o(r, c) = m(r, c);
+  return a;
+}
+
+/// A dense float64 copy of `obj` with exactly `shape` (−1: any extent), else ValueError naming
+/// the expected shape.
+py::array_t<double, py::array::c_style | py::array::forcecast> as_float64(py::handle obj, std::vector<py::ssize_t> shape,
+                                                                           const char* what);
+
+template <int R, int C>
+dq::Mat<double, R, C> mat_from_numpy(py::handle obj) {
+  const auto a = as_float64(obj, {R, C}, "matrix");
+  auto v = a.template unchecked<2>();
+  dq::Mat<double, R, C> m;
+  for (int r = 0; r < R; ++r)
+    for (int c = 0; c < C; ++c) m(r, c) = v(r, c);
+  return m;
+}
+
+// ---- batch arrays -------------------------------------------------------------------------------
+/// "(N, 8)", "(F, J, 8)", ...: the shape as the error messages and the documentation write it.
+std::string shape_text(const std::vector<const char*>& dims);
+
+/// An input array of the batch API: float32 or float64, C-contiguous (a copy only when the
+/// caller's array is not), with a trailing shape checked; leading dimensions are named in `dims`.
+struct BatchInput {
+  py::array array;  ///< the contiguous array (the caller's own when the layout allowed)
+  std::size_t count = 0;  ///< product of the leading (named) dimensions
+  bool single = false;    ///< given without its leading dimension: one value for every row
+};
+
+/// The dtype of a batch call: float32 or float64, else ValueError.
+enum class Dtype { f32, f64 };
+Dtype dtype_of(const py::array& a, const char* name);
+template <class T>
+inline constexpr Dtype dtype_of_v = std::is_same_v<T, float> ? Dtype::f32 : Dtype::f64;
+/// The dtype of a call, from its first array argument (float64 for lists and tuples).
+Dtype call_dtype(py::handle first, const char* name);
+
+/// Checks `obj` against the shape `dims` (names for leading extents, digits for fixed ones, e.g.
+/// {"N", "8"}); `optional_leading` accepts the shape without its first dimension too (one value
+/// broadcast over N). Converts to `dtype` (same as the other inputs: mixing is an error).
+BatchInput batch_input(py::handle obj, const std::vector<const char*>& dims, Dtype dtype, const char* name,
+                       bool optional_leading = false);
+
+template <class T>
+const T* data_of(const BatchInput& in) {
+  return static_cast<const T*>(in.array.data());
+}
+
+template <class T>
+py::array_t<T> new_array(std::vector<py::ssize_t> shape) {
+  return py::array_t<T>(std::move(shape));
+}
+
+/// Dual quaternions stored as 8 consecutive scalars (w, x, y, z real, then dual) are exactly the
+/// memory of DualQuaternion<T> (two Quaternion<T> of four fields, w first): the batch functions
+/// reinterpret the NumPy buffers, without copying.
+static_assert(sizeof(dq::Quaternion<float>) == 4 * sizeof(float) && sizeof(dq::Quaternion<double>) == 4 * sizeof(double));
+static_assert(sizeof(dq::DualQuaternion<float>) == 8 * sizeof(float) && sizeof(dq::DualQuaternion<double>) == 8 * sizeof(double));
+static_assert(sizeof(dq::Vec3<double>) == 3 * sizeof(double) && sizeof(dq::Vec3<float>) == 3 * sizeof(float));
+static_assert(std::is_standard_layout_v<dq::DualQuaternion<double>> && std::is_standard_layout_v<dq::Vec3<double>>);
+
+template <class X, class T>
+const X* as_values(const T* p) {
+  return reinterpret_cast<const X*>(p);
+}
+template <class X, class T>
+X* as_values(T* p) {
+  return reinterpret_cast<X*>(p);
+}
+
+/// (N, 8) float64 array of dual quaternions from a list of them, and back.
+py::array_t<double> dual_quaternions_to_numpy(std::span<const dq::DualQuaternion<double>> qs, std::vector<py::ssize_t> shape);
+std::vector<dq::DualQuaternion<double>> dual_quaternions_from_numpy(py::handle obj, const char* name);
+
+void bind_values(py::module_& m);
+void bind_batch(py::module_& m);
+void bind_anim(py::module_& m);
+void bind_io(py::module_& m);
+void bind_ik(py::module_& m);
+void bind_skin(py::module_& m);
+
+}  // namespace dqpy
+
+// Vec3<double> converts from any sequence of three numbers (tuple, list, NumPy array) and to a
+// float64 array of shape (3,).
+namespace pybind11::detail {
+template <>
+struct type_caster<dq::Vec3<double>> {
+  PYBIND11_TYPE_CASTER(dq::Vec3<double>, const_name("numpy.ndarray[float64[3]]"));
+  bool load(handle src, bool convert) {
+    if (!convert && !isinstance<array>(src)) return false;
+    if (isinstance<str>(src) || !(isinstance<sequence>(src) || isinstance<array>(src))) return false;
+    const auto a = dqpy::as_float64(src, {3}, "vector");
+    value = {a.at(0), a.at(1), a.at(2)};
+    return true;
+  }
+  static handle cast(const dq::Vec3<double>& v, return_value_policy, handle) { return dqpy::vec_to_numpy(v).release(); }
+};
+}  // namespace pybind11::detail

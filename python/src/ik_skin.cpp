@@ -1,0 +1,246 @@
+// Inverse kinematics (dq::IkSolver over KinematicModel and IkTask) and skinning (Skin, SceneSkin,
+// batch skinning of (V, 3) vertices).
+#include "common.hpp"
+#include "dq/ik/kinematic_model.hpp"
+#include "dq/ik/motion_capture.hpp"
+#include "dq/ik/solver.hpp"
+#include "dq/skin/scene_skin.hpp"
+#include "dq/skin/skin.hpp"
+#include "dq/skin/skinning.hpp"
+
+namespace dqpy {
+namespace {
+
+using DQd = dq::DualQuaternion<double>;
+using V = dq::Vec3<double>;
+
+/// A writable, contiguous float64 vector of `n` values, taken in place (IkSolver.solve writes q).
+std::span<double> inout_vector(py::array& a, std::size_t n, const char* name) {
+  if (!py::isinstance<py::array_t<double>>(a) || a.ndim() != 1 || static_cast<std::size_t>(a.shape(0)) != n ||
+      !(a.flags() & py::array::c_style) || !a.writeable())
+    throw py::value_error(std::string(name) + ": expected a writable contiguous float64 array of shape (" + std::to_string(n) + ",)");
+  return {static_cast<double*>(a.mutable_data()), n};
+}
+
+void bind_ik_types(py::module_& m) {
+  py::enum_<dq::DofType>(m, "DofType")
+      .value("revolute", dq::DofType::revolute).value("prismatic", dq::DofType::prismatic)
+      .value("ball", dq::DofType::ball).value("free", dq::DofType::free);
+  py::class_<dq::Dof>(m, "Dof", "A degree of freedom of a joint (revolute/prismatic about a unit axis, ball: 3, free: 6 parameters).")
+      .def(py::init([](int joint, dq::DofType type, const V& axis, std::string name) { return dq::Dof{joint, type, axis, std::move(name)}; }),
+           py::arg("joint"), py::arg("type"), py::arg("axis") = V{1, 0, 0}, py::arg("name") = "")
+      .def_readwrite("joint", &dq::Dof::joint).def_readwrite("type", &dq::Dof::type)
+      .def_readwrite("axis", &dq::Dof::axis).def_readwrite("name", &dq::Dof::name);
+  py::class_<dq::ParameterLimits>(m, "ParameterLimits")
+      .def(py::init([](double lo, double hi) { return dq::ParameterLimits{lo, hi}; }), py::arg("lower"), py::arg("upper"))
+      .def_readwrite("lower", &dq::ParameterLimits::lower).def_readwrite("upper", &dq::ParameterLimits::upper);
+  py::class_<dq::KinematicModel>(m, "KinematicModel", "A skeleton with degrees of freedom and limits: the model IK solves over.")
+      .def_static("build", [](const dq::Skeleton& s, std::vector<dq::Dof> dofs, std::vector<dq::ParameterLimits> limits) {
+        return unwrap(dq::KinematicModel::build(s, std::move(dofs), std::move(limits)));
+      }, py::arg("skeleton"), py::arg("dofs"), py::arg("limits") = std::vector<dq::ParameterLimits>{})
+      .def_static("ball_joints", &dq::KinematicModel::ball_joints, py::arg("skeleton"), "Ball joints everywhere, free roots.")
+      .def_static("biped", &dq::KinematicModel::biped, py::return_value_policy::copy, "The 16-link, 36-DOF biped.")
+      .def_static("arm7", &dq::KinematicModel::arm7, py::return_value_policy::copy, "The 7-DOF arm of the IK benchmark.")
+      .def_property_readonly("skeleton", &dq::KinematicModel::skeleton, py::return_value_policy::reference_internal)
+      .def_property_readonly("dofs", [](const dq::KinematicModel& k) { return std::vector<dq::Dof>(k.dofs().begin(), k.dofs().end()); })
+      .def("parameters", &dq::KinematicModel::parameters, "The number of parameters q.")
+      .def_property_readonly("limits", [](const dq::KinematicModel& k) {
+        return std::vector<dq::ParameterLimits>(k.limits().begin(), k.limits().end());
+      })
+      .def("find_parameter", &dq::KinematicModel::find_parameter, py::arg("name"))
+      .def("within_limits", [](const dq::KinematicModel& k, py::handle q, double slack) {
+        const auto a = as_float64(q, {static_cast<py::ssize_t>(k.parameters())}, "q");
+        return k.within_limits(std::span(a.data(), k.parameters()), slack);
+      }, py::arg("q"), py::arg("slack") = 0.0);
+  m.def("model_transforms", [](const dq::KinematicModel& k, py::handle q) {
+    const auto a = as_float64(q, {static_cast<py::ssize_t>(k.parameters())}, "q");
+    std::vector<DQd> world(k.skeleton().size());
+    dq::model_transforms<DQd, double>(k, std::span(a.data(), k.parameters()), world);
+    return dual_quaternions_to_numpy(world, {static_cast<py::ssize_t>(world.size()), 8});
+  }, py::arg("model"), py::arg("q"), "(J, 8) world transforms of the joints for parameters q.");
+
+  py::enum_<dq::TaskKind>(m, "TaskKind")
+      .value("position", dq::TaskKind::position).value("orientation", dq::TaskKind::orientation)
+      .value("pose", dq::TaskKind::pose).value("aim", dq::TaskKind::aim).value("point_on_line", dq::TaskKind::point_on_line);
+  py::class_<dq::IkTask>(m, "IkTask", "A goal for one effector joint, with a weight and a priority level.")
+      .def(py::init<>())
+      .def_readwrite("kind", &dq::IkTask::kind).def_readwrite("joint", &dq::IkTask::joint)
+      .def_readwrite("point", &dq::IkTask::point).def_readwrite("target", &dq::IkTask::target)
+      .def_readwrite("axis", &dq::IkTask::axis).def_readwrite("location", &dq::IkTask::location)
+      .def_readwrite("weight", &dq::IkTask::weight).def_readwrite("priority", &dq::IkTask::priority)
+      .def_static("reach", &dq::IkTask::reach, py::arg("joint"), py::arg("target"), py::arg("point") = V{})
+      .def_static("frame", &dq::IkTask::frame, py::arg("joint"), py::arg("target"), py::arg("point") = V{})
+      .def_static("rotation", &dq::IkTask::rotation, py::arg("joint"), py::arg("target"))
+      .def_static("aim_at", &dq::IkTask::aim_at, py::arg("joint"), py::arg("local_axis"), py::arg("target"), py::arg("point") = V{})
+      .def_static("onto_line", &dq::IkTask::onto_line, py::arg("joint"), py::arg("line_point"), py::arg("direction"), py::arg("point") = V{});
+  py::enum_<dq::IkMethod>(m, "IkMethod")
+      .value("levenberg_marquardt", dq::IkMethod::levenberg_marquardt)
+      .value("newton", dq::IkMethod::newton)
+      .value("gauss_seidel", dq::IkMethod::gauss_seidel);
+  py::class_<dq::IkOptions>(m, "IkOptions")
+      .def(py::init<>())
+      .def_readwrite("method", &dq::IkOptions::method).def_readwrite("max_iterations", &dq::IkOptions::max_iterations)
+      .def_readwrite("max_restarts", &dq::IkOptions::max_restarts)
+      .def_readwrite("position_tolerance", &dq::IkOptions::position_tolerance)
+      .def_readwrite("orientation_tolerance", &dq::IkOptions::orientation_tolerance)
+      .def_readwrite("initial_damping", &dq::IkOptions::initial_damping).def_readwrite("rest_weight", &dq::IkOptions::rest_weight)
+      .def_readwrite("seed", &dq::IkOptions::seed).def_readwrite("max_rows", &dq::IkOptions::max_rows);
+  py::enum_<dq::IkStatus>(m, "IkStatus")
+      .value("converged", dq::IkStatus::converged).value("unreachable", dq::IkStatus::unreachable)
+      .value("iteration_limit", dq::IkStatus::iteration_limit).value("invalid_input", dq::IkStatus::invalid_input);
+  py::class_<dq::IkResult>(m, "IkResult")
+      .def_readonly("status", &dq::IkResult::status).def_readonly("iterations", &dq::IkResult::iterations)
+      .def_readonly("restarts", &dq::IkResult::restarts).def_readonly("position_error", &dq::IkResult::position_error)
+      .def_readonly("orientation_error", &dq::IkResult::orientation_error)
+      .def_property_readonly("message", [](const dq::IkResult& r) { return std::string(r.message); })
+      .def("__repr__", [](const dq::IkResult& r) {
+        return "IkResult(status=" + py::str(py::cast(r.status)).cast<std::string>() + ", iterations=" + std::to_string(r.iterations) +
+               ", position_error=" + std::to_string(r.position_error) + ")";
+      });
+  // One solver owns a workspace: use one per thread (the model may be shared).
+  py::class_<dq::IkSolver>(m, "IkSolver", "Damped least squares / Newton / Gauss-Seidel IK over dual quaternions.")
+      .def(py::init<const dq::KinematicModel&, const dq::IkOptions&>(), py::arg("model"), py::arg("options") = dq::IkOptions{},
+           py::keep_alive<1, 2>())
+      .def("solve", [](dq::IkSolver& s, const std::vector<dq::IkTask>& tasks, py::array q, py::object rest) {
+        const std::size_t n = s.model().parameters();
+        const std::span<double> qs = inout_vector(q, n, "q");
+        std::vector<double> r;
+        if (!rest.is_none()) {
+          const auto a = as_float64(rest, {static_cast<py::ssize_t>(n)}, "rest");
+          r.assign(a.data(), a.data() + n);
+        }
+        py::gil_scoped_release release;
+        return s.solve(tasks, qs, r);
+      }, py::arg("tasks"), py::arg("q"), py::arg("rest") = py::none(),
+         "Solves in place: q (float64, shape (parameters,)) is the initial pose and receives the solution.")
+      .def("set_free_parameters", [](dq::IkSolver& s, const std::vector<bool>& free) {
+        if (!free.empty() && free.size() != s.model().parameters())
+          throw py::value_error("set_free_parameters: expected no flags or " + std::to_string(s.model().parameters()));
+        const std::vector<std::uint8_t> f(free.begin(), free.end());
+        s.set_free_parameters(f);
+      }, py::arg("free"))
+      .def_property_readonly("model", &dq::IkSolver::model, py::return_value_policy::reference_internal);
+}
+
+void bind_skin_types(py::module_& m) {
+  py::enum_<dq::SkinningMethod>(m, "SkinningMethod", "Linear blend, dual quaternion, or centre-of-rotation skinning.")
+      .value("lbs", dq::SkinningMethod::lbs).value("dqs", dq::SkinningMethod::dqs).value("cor", dq::SkinningMethod::cor);
+  py::enum_<dq::WeightPolicy>(m, "WeightPolicy").value("normalize", dq::WeightPolicy::normalize).value("reject", dq::WeightPolicy::reject);
+  py::class_<dq::SkinOptions>(m, "SkinOptions")
+      .def(py::init<>())
+      .def_readwrite("weights", &dq::SkinOptions::weights)
+      .def_readwrite("weight_tolerance", &dq::SkinOptions::weight_tolerance)
+      .def_readwrite("centers_of_rotation", &dq::SkinOptions::centers_of_rotation)
+      .def_readwrite("cor_sigma", &dq::SkinOptions::cor_sigma);
+  py::class_<dq::Skin>(m, "Skin", "A validated skin: vertices, influences and the bones' bind transforms.")
+      .def_property_readonly("vertex_count", &dq::Skin::vertex_count)
+      .def_property_readonly("bone_count", &dq::Skin::bone_count)
+      .def_property_readonly("renormalized_vertices", &dq::Skin::renormalized_vertices);
+  m.def("build_skin", [](py::handle positions, py::handle bones, py::handle weights, py::handle inverse_bind, py::object triangles,
+                         const dq::SkinOptions& options) {
+    const auto p = as_float64(positions, {-1, 3}, "positions");
+    const auto b = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(bones);
+    const auto w = as_float64(weights, {p.shape(0), -1}, "weights");
+    if (!b || b.ndim() != 2 || b.shape(0) != w.shape(0) || b.shape(1) != w.shape(1))
+      throw py::value_error("bones: expected an int array of shape (V, K), the shape of weights");
+    const auto ib = as_float64(inverse_bind, {-1, 4, 4}, "inverse_bind");
+    dq::RawSkin raw;
+    const auto V = static_cast<std::size_t>(p.shape(0)), K = static_cast<std::size_t>(w.shape(1));
+    for (std::size_t v = 0; v < V; ++v) {
+      raw.positions.push_back({static_cast<float>(p.at(v, 0)), static_cast<float>(p.at(v, 1)), static_cast<float>(p.at(v, 2))});
+      raw.influence_offsets.push_back(static_cast<std::uint32_t>(raw.influences.size()));
+      for (std::size_t k = 0; k < K; ++k) {
+        const double wk = w.at(v, k);
+        if (wk == 0) continue;
+        const auto bone = b.at(v, k);
+        if (bone < 0 || bone >= ib.shape(0))
+          throw py::value_error("bones: vertex " + std::to_string(v) + " names bone " + std::to_string(bone) + " of " + std::to_string(ib.shape(0)));
+        raw.influences.push_back({static_cast<std::uint32_t>(bone), static_cast<float>(wk)});
+      }
+    }
+    raw.influence_offsets.push_back(static_cast<std::uint32_t>(raw.influences.size()));
+    for (py::ssize_t i = 0; i < ib.shape(0); ++i) {
+      dq::Mat4<double> mat;
+      for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) mat(r, c) = ib.at(i, r, c);
+      raw.inverse_bind.push_back(mat);
+    }
+    if (!triangles.is_none()) {
+      const auto t = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(triangles);
+      if (!t || t.ndim() != 2 || t.shape(1) != 3) throw py::value_error("triangles: expected shape (T, 3)");
+      raw.triangles.assign(t.data(), t.data() + t.size());
+    }
+    dq::SkinOptions o = options;
+    if (raw.triangles.empty()) o.centers_of_rotation = false;
+    return unwrap(dq::build_skin(raw, o));
+  }, py::arg("positions"), py::arg("bones"), py::arg("weights"), py::arg("inverse_bind"), py::arg("triangles") = py::none(),
+     py::arg("options") = dq::SkinOptions{},
+     "A skin from (V, 3) positions, (V, K) bone indices and weights (zero weights ignored), (B, 4, 4) inverse bind matrices "
+     "and optional (T, 3) triangles (needed for SkinningMethod.cor).");
+  m.def("skin_vertices", [](const dq::Skin& skin, py::handle bone_world, dq::SkinningMethod method) {
+    const auto bw = dual_quaternions_from_numpy(bone_world, "bone_world");
+    if (bw.size() != skin.bone_count())
+      throw py::value_error("bone_world: expected shape (" + std::to_string(skin.bone_count()) + ", 8), one per bone");
+    if (method == dq::SkinningMethod::cor && !skin.has_centers())
+      throw py::value_error("SkinningMethod.cor needs centres of rotation: build the skin with triangles");
+    const std::size_t n = skin.vertex_count();
+    py::array_t<float> out({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+    std::vector<float> px(n), py_(n), pz(n);
+    {
+      py::gil_scoped_release release;
+      dq::SkinPalette palette(skin.bone_count());
+      dq::update_palette(skin, bw, palette);
+      dq::SkinningJob job{&skin, &palette, method, {px, py_, pz, {}, {}, {}, {}, {}, {}}, 0, n};
+      check(job.validate());
+      job.run();
+    }
+    auto o = out.mutable_unchecked<2>();
+    for (std::size_t v = 0; v < n; ++v) o(v, 0) = px[v], o(v, 1) = py_[v], o(v, 2) = pz[v];
+    return out;
+  }, py::arg("skin"), py::arg("bone_world"), py::arg("method") = dq::SkinningMethod::dqs,
+     "(V, 3) float32 skinned positions for (B, 8) bone world transforms.");
+
+  py::class_<dq::SkinnedFrame>(m, "SkinnedFrame")
+      .def_property_readonly("positions", [](const dq::SkinnedFrame& f) {
+        py::array_t<float> a({static_cast<py::ssize_t>(f.size()), py::ssize_t{3}});
+        auto o = a.mutable_unchecked<2>();
+        for (std::size_t v = 0; v < f.size(); ++v) o(v, 0) = f.px[v], o(v, 1) = f.py[v], o(v, 2) = f.pz[v];
+        return a;
+      }, "(V, 3) float32 positions (a copy).")
+      .def_property_readonly("triangles", [](const dq::SkinnedFrame& f) {
+        return py::array_t<std::uint32_t>({static_cast<py::ssize_t>(f.triangles.size() / 3), py::ssize_t{3}}, f.triangles.data());
+      });
+  py::enum_<dq::MeshFormat>(m, "MeshFormat")
+      .value("csv", dq::MeshFormat::csv).value("obj", dq::MeshFormat::obj).value("ply", dq::MeshFormat::ply).value("gltf", dq::MeshFormat::gltf);
+  m.def("format_frame", [](const dq::SkinnedFrame& f, dq::MeshFormat fmt) { return unwrap(dq::format_frame(f, fmt)); },
+        py::arg("frame"), py::arg("format"), "The frame as CSV, OBJ, PLY or glTF text.");
+#ifdef DQKIT_PY_HAVE_IMPORT
+  py::class_<dq::SceneSkin>(m, "SceneSkin", "Every skinned mesh of an imported scene.")
+      .def_static("build", [](const dq::ImportedScene& s, const dq::SkinOptions& o) { return unwrap(dq::SceneSkin::build(s, o)); },
+                  py::arg("scene"), py::arg("options") = dq::SkinOptions{})
+      .def_property_readonly("vertex_count", &dq::SceneSkin::vertex_count)
+      .def_property_readonly("joint_count", &dq::SceneSkin::joint_count)
+      .def("skin", [](dq::SceneSkin& s, py::handle joint_world, dq::SkinningMethod method) {
+        const auto jw = dual_quaternions_from_numpy(joint_world, "joint_world");
+        if (jw.size() != s.joint_count())
+          throw py::value_error("joint_world: expected shape (" + std::to_string(s.joint_count()) + ", 8), one per joint");
+        dq::SkinnedFrame frame = s.make_frame();
+        py::gil_scoped_release release;
+        dq::SkinningThreads threads(1);
+        check(s.skin(jw, method, threads, frame));
+        return frame;
+      }, py::arg("joint_world"), py::arg("method") = dq::SkinningMethod::dqs, "Skins every mesh with the (J, 8) joint world transforms.");
+  m.def("pose_at", [](const dq::ImportedScene& s, std::size_t animation, double time) {
+    std::vector<DQd> world;
+    check(dq::pose_at(s, animation, time, world));
+    return dual_quaternions_to_numpy(world, {static_cast<py::ssize_t>(world.size()), 8});
+  }, py::arg("scene"), py::arg("animation"), py::arg("time"), "(J, 8) world transforms of the scene's joints at `time` seconds.");
+#endif
+}
+
+}  // namespace
+
+void bind_ik(py::module_& m) { bind_ik_types(m); }
+void bind_skin(py::module_& m) { bind_skin_types(m); }
+
+}  // namespace dqpy
