@@ -1,4 +1,6 @@
 #include <algorithm>
+#include <thread>
+#include <vector>
 
 #include "dq/simd/batch.hpp"
 
@@ -33,15 +35,26 @@ Status run_parallel(const ForwardKinematicsJob<T>& job, unsigned threads, std::s
                         run_part(part);
                       });
   };
-  if (threads == 0) {
+  if (threads == 0 || threads >= std::thread::hardware_concurrency()) {
     body();
   } else {
     tbb::task_arena arena(static_cast<int>(threads));
     arena.execute(body);
   }
 #else
-  (void)threads, (void)grain;
-  run_part(job);  // built without oneTBB: on the calling thread
+  // Without oneTBB (or under ThreadSanitizer, which cannot see oneTBB's uninstrumented
+  // synchronization): one thread per range, started for this call.
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t parts = std::clamp<std::size_t>(job.pose_count / std::max<std::size_t>(1, grain), 1, threads);
+  const std::size_t chunk = (job.pose_count + parts - 1) / parts;
+  std::vector<std::jthread> workers;
+  for (std::size_t k = 0; k < parts; ++k) {
+    ForwardKinematicsJob<T> part = job;
+    part.first_pose = job.first_pose + k * chunk;
+    if (part.first_pose >= job.first_pose + job.pose_count) break;
+    part.pose_count = std::min(chunk, job.first_pose + job.pose_count - part.first_pose);
+    workers.emplace_back([part] { run_part(part); });
+  }
 #endif
   return {};
 }

@@ -1,0 +1,363 @@
+// Batch kernels at the memory limit, with the machine's limits measured in the same run:
+// copy and triad bandwidth over arrays four times the last-level cache (read from the CPU, which is
+// 32 MB on some machines of this kind and 260 MB on others), one and two threads, and the peak
+// rate of vector multiply-adds; then forward kinematics of 10,000 and 100,000 skeletons of 64
+// joints (dqkit's run-time dispatched kernel, the scalar job, Eigen Isometry3f pose by pose; one and
+// two threads), one skeleton at a time, transforming points, and composing arrays hot in cache and
+// in DRAM, against Eigen and GLM in the same binary. Every variant's result is checked once,
+// outside the timing, against dqkit's scalar types. Counters: bytes_per_second and, for the
+// memory-bound cases, `roofline` = achieved bytes/s ÷ the measured copy bandwidth.
+//   build/release/bench/bench_batch --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+#include <benchmark/benchmark.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <glm/gtx/dual_quaternion.hpp>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "dq/interop/eigen.hpp"
+#include "dq/interop/glm.hpp"
+#include "dq/simd/batch.hpp"
+
+namespace {
+
+using namespace dq;
+
+// ---- the machine -----------------------------------------------------------------------------------
+
+std::size_t last_level_cache_bytes() {
+  std::size_t best = 0;
+  for (int index = 0; index < 8; ++index) {
+    std::ifstream f("/sys/devices/system/cpu/cpu0/cache/index" + std::to_string(index) + "/size");
+    std::string s;
+    if (!(f >> s)) continue;
+    std::size_t v = std::strtoull(s.c_str(), nullptr, 10);
+    if (s.back() == 'K') v <<= 10;
+    if (s.back() == 'M') v <<= 20;
+    best = std::max(best, v);
+  }
+  return best ? best : std::size_t{32} << 20;
+}
+std::string cpu_model() {
+  std::ifstream f("/proc/cpuinfo");
+  for (std::string line; std::getline(f, line);)
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown";
+}
+
+/// Floats per array for the DRAM cases: four times the last-level cache per array.
+std::size_t dram_floats() { return 4 * last_level_cache_bytes() / sizeof(float); }
+
+double& copy_bandwidth() {  // bytes/s of the one-thread copy, measured first (the roofline's roof)
+  static double b = 0;
+  return b;
+}
+
+template <class Body>
+void split(unsigned threads, std::size_t n, Body body) {
+  if (threads <= 1) return body(0, n);
+  std::vector<std::thread> t;
+  const std::size_t chunk = (n + threads - 1) / threads;
+  for (unsigned k = 0; k < threads; ++k) t.emplace_back([&, k] { body(k * chunk, std::min(n, (k + 1) * chunk)); });
+  for (auto& x : t) x.join();
+}
+
+void Copy(benchmark::State& state) {
+  const std::size_t n = dram_floats();
+  const auto threads = static_cast<unsigned>(state.range(0));
+  std::vector<float> a(n, 1.0f), b(n);
+  for (auto _ : state) {
+    split(threads, n, [&](std::size_t lo, std::size_t hi) { std::copy(a.data() + lo, a.data() + hi, b.data() + lo); });
+    benchmark::DoNotOptimize(b.data());
+  }
+  const double bytes = static_cast<double>(state.iterations()) * static_cast<double>(2 * n * sizeof(float));
+  state.SetBytesProcessed(static_cast<int64_t>(bytes));
+  state.counters["array_MB"] = static_cast<double>(n * sizeof(float)) / 1e6;
+}
+
+void Triad(benchmark::State& state) {
+  const std::size_t n = dram_floats();
+  const auto threads = static_cast<unsigned>(state.range(0));
+  std::vector<float> a(n), b(n, 1.0f), c(n, 2.0f);
+  for (auto _ : state) {
+    split(threads, n, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t i = lo; i < hi; ++i) a[i] = b[i] + 3.0f * c[i];
+    });
+    benchmark::DoNotOptimize(a.data());
+  }
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations() * 3 * n * sizeof(float)));
+}
+
+/// Peak vector multiply-add rate: 16 independent chains of the widest width this build's
+/// dispatch uses (AVX-512 or AVX2 with FMA, per the CPU), in floating-point operations per second.
+[[gnu::target("avx2,fma")]] float fma_chains_avx2(long n) {
+  using v8 = float __attribute__((vector_size(32)));
+  v8 acc[16];
+  for (int k = 0; k < 16; ++k) acc[k] = v8{} + static_cast<float>(k);
+  const v8 m = v8{} + 0.999999f, a = v8{} + 1e-7f;
+  for (long i = 0; i < n; ++i)
+    for (auto& x : acc) x = __builtin_ia32_vfmaddps256(x, m, a);
+  float s = 0;
+  for (auto& x : acc) s += x[0];
+  return s;
+}
+void PeakFma(benchmark::State& state) {
+  if (!__builtin_cpu_supports("fma")) return state.SkipWithError("no FMA on this CPU");
+  const long n = 1 << 16;
+  for (auto _ : state) benchmark::DoNotOptimize(fma_chains_avx2(n));
+  state.counters["flops"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * static_cast<double>(n) * 16 * 8 * 2, benchmark::Counter::kIsRate);
+}
+
+// ---- forward kinematics of many skeletons ------------------------------------------------------------
+
+constexpr std::size_t kJoints = 64;
+
+/// A 64-joint tree (parents before children, branching like a character) and random local poses.
+struct Skeletons {
+  std::vector<int> parents;
+  std::size_t poses;
+  DualQuaternionSoAStorage<float> local, model;
+  explicit Skeletons(std::size_t n) : poses(n), local(kJoints, n), model(kJoints, n) {
+    std::mt19937 rng(7);
+    parents.push_back(-1);
+    for (std::size_t j = 1; j < kJoints; ++j) parents.push_back(j % 8 == 1 ? 0 : static_cast<int>(j) - 1);
+    std::normal_distribution<float> g;
+    auto v = local.view();
+    for (std::size_t j = 0; j < kJoints; ++j)
+      for (std::size_t p = 0; p < n; ++p)
+        v.set(j, p, DualQuaternion<float>::from_rotation_translation(Quaternion<float>(g(rng), g(rng), g(rng), g(rng)).normalized(),
+                                                                      {g(rng), g(rng), g(rng)}));
+  }
+  ForwardKinematicsJob<float> job() { return {parents, local.view(), model.view(), 0, poses}; }
+};
+Skeletons& skeletons(std::size_t n) {
+  static Skeletons small(10'000), large(100'000);
+  return n == 10'000 ? small : large;
+}
+
+void report_fk(benchmark::State& state, std::size_t poses) {
+  const double joints = static_cast<double>(state.iterations()) * static_cast<double>(poses * kJoints);
+  state.counters["joints_per_s"] = benchmark::Counter(joints, benchmark::Counter::kIsRate);
+  // 32 bytes of local pose read and 32 of model pose written per joint (the parent is in cache).
+  state.SetBytesProcessed(static_cast<int64_t>(joints * 64));
+  if (copy_bandwidth() > 0) state.counters["roofline"] = benchmark::Counter(joints * 64 / copy_bandwidth(), benchmark::Counter::kIsRate);
+}
+
+void FkDispatched(benchmark::State& state) {
+  const auto poses = static_cast<std::size_t>(state.range(0));
+  const auto threads = static_cast<unsigned>(state.range(1));
+  Skeletons& s = skeletons(poses);
+  const ForwardKinematicsJob<float> job = s.job();
+  state.SetLabel(std::string(simd::to_string(simd::current_target())));
+  for (auto _ : state) {
+    if (threads == 1)
+      simd::run(job);
+    else
+      (void)simd::run_parallel(job, threads, 1024);
+    benchmark::ClobberMemory();
+  }
+  report_fk(state, poses);
+}
+void FkScalarJob(benchmark::State& state) {
+  const auto poses = static_cast<std::size_t>(state.range(0));
+  Skeletons& s = skeletons(poses);
+  const ForwardKinematicsJob<float> job = s.job();
+  for (auto _ : state) {
+    job.run();
+    benchmark::ClobberMemory();
+  }
+  report_fk(state, poses);
+}
+/// What users of Eigen write: each skeleton's poses as Isometry3f, pose by pose.
+void FkEigenPerPose(benchmark::State& state) {
+  const auto poses = static_cast<std::size_t>(state.range(0));
+  Skeletons& s = skeletons(poses);
+  const auto v = s.local.view();
+  std::vector<Eigen::Isometry3f> local(poses * kJoints), model(poses * kJoints);
+  for (std::size_t p = 0; p < poses; ++p)
+    for (std::size_t j = 0; j < kJoints; ++j) local[p * kJoints + j] = eigen::to_isometry(v.get(j, p));
+  for (auto _ : state) {
+    for (std::size_t p = 0; p < poses; ++p) {
+      const Eigen::Isometry3f* l = local.data() + p * kJoints;
+      Eigen::Isometry3f* m = model.data() + p * kJoints;
+      for (std::size_t j = 0; j < kJoints; ++j) m[j] = s.parents[j] < 0 ? l[j] : m[s.parents[j]] * l[j];
+    }
+    benchmark::DoNotOptimize(model.data());
+    benchmark::ClobberMemory();
+  }
+  // Checked once: the same model transforms as dqkit's job.
+  s.job().run();
+  const auto got = s.model.view();
+  for (std::size_t p = 0; p < poses; p += poses / 7)
+    for (std::size_t j = 0; j < kJoints; ++j)
+      if ((model[p * kJoints + j].translation() - eigen::to_eigen(got.get(j, p).translation())).norm() > 1e-3f * (1 + model[p * kJoints + j].translation().norm()))
+        state.SkipWithError("Eigen and dqkit disagree");
+  report_fk(state, poses);
+}
+
+/// One skeleton at a time (64 joints): dqkit dual quaternions and Eigen Isometry3f.
+template <class X, class Make>
+void FkOneSkeleton(benchmark::State& state, Make make) {
+  Skeletons& s = skeletons(10'000);
+  const auto v = s.local.view();
+  std::vector<X> local, model(kJoints);
+  for (std::size_t j = 0; j < kJoints; ++j) local.push_back(make(v.get(j, 0)));
+  for (auto _ : state) {
+    for (std::size_t j = 0; j < kJoints; ++j) model[j] = s.parents[j] < 0 ? local[j] : model[static_cast<std::size_t>(s.parents[j])] * local[j];
+    benchmark::DoNotOptimize(model.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["joints_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * kJoints), benchmark::Counter::kIsRate);
+}
+void FkOneSkeletonDualQuaternion(benchmark::State& s) {
+  FkOneSkeleton<DualQuaternion<float>>(s, [](const DualQuaternion<float>& q) { return q; });
+}
+void FkOneSkeletonEigenIsometry3f(benchmark::State& s) {
+  FkOneSkeleton<Eigen::Isometry3f>(s, [](const DualQuaternion<float>& q) { return eigen::to_isometry(q); });
+}
+
+// ---- points and compositions ---------------------------------------------------------------------------
+
+/// n dual quaternions in SoA (8 arrays) and their AoS copies for the peers.
+struct Arrays {
+  std::vector<float> c[8], p[3], out[3], o8[8];
+  std::vector<DualQuaternion<float>> dq;
+  explicit Arrays(std::size_t n) {
+    std::mt19937 rng(3);
+    std::normal_distribution<float> g;
+    for (auto& v : c) v.resize(n);
+    for (auto& v : o8) v.resize(n);
+    for (auto& v : p) v.resize(n);
+    for (auto& v : out) v.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto q = DualQuaternion<float>::from_rotation_translation(Quaternion<float>(g(rng), g(rng), g(rng), g(rng)).normalized(),
+                                                                      {g(rng), g(rng), g(rng)});
+      dq.push_back(q);
+      const float* s = &q.real.w;
+      for (int k = 0; k < 8; ++k) c[k][i] = s[k];
+      for (auto& v : p) v[i] = g(rng);
+    }
+  }
+  simd::ConstRows rows() const { return {c[0].data(), c[1].data(), c[2].data(), c[3].data(), c[4].data(), c[5].data(), c[6].data(), c[7].data()}; }
+  simd::Rows out_rows() { return {o8[0].data(), o8[1].data(), o8[2].data(), o8[3].data(), o8[4].data(), o8[5].data(), o8[6].data(), o8[7].data()}; }
+};
+Arrays& arrays(std::size_t n) {
+  static Arrays hot(4096), dram(dram_floats() / 8);
+  return n == 4096 ? hot : dram;
+}
+std::size_t size_of(benchmark::State& state) { return state.range(0) == 0 ? 4096 : dram_floats() / 8; }
+
+void TransformPointsDispatched(benchmark::State& state) {
+  Arrays& a = arrays(size_of(state));
+  const std::size_t n = a.dq.size();
+  state.SetLabel(std::string(simd::to_string(simd::current_target())));
+  for (auto _ : state) {
+    simd::transform_points(a.rows(), {a.p[0].data(), a.p[1].data(), a.p[2].data()}, {a.out[0].data(), a.out[1].data(), a.out[2].data()}, n);
+    benchmark::ClobberMemory();
+  }
+  state.counters["points_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations() * n * 44));  // 32 + 12 in, 12 out
+}
+void TransformPointsEigenIsometry3f(benchmark::State& state) {
+  Arrays& a = arrays(size_of(state));
+  const std::size_t n = a.dq.size();
+  std::vector<Eigen::Isometry3f> m;
+  std::vector<Eigen::Vector3f> p(n), out(n);
+  for (std::size_t i = 0; i < n; ++i) m.push_back(eigen::to_isometry(a.dq[i])), p[i] = {a.p[0][i], a.p[1][i], a.p[2][i]};
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < n; ++i) out[i] = m[i] * p[i];
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  // Checked once against dqkit.
+  simd::transform_points(a.rows(), {a.p[0].data(), a.p[1].data(), a.p[2].data()}, {a.out[0].data(), a.out[1].data(), a.out[2].data()}, n);
+  for (std::size_t i = 0; i < n; i += 97)
+    if ((out[i] - Eigen::Vector3f(a.out[0][i], a.out[1][i], a.out[2][i])).norm() > 1e-4f * (1 + out[i].norm())) state.SkipWithError("Eigen and dqkit disagree");
+  state.counters["points_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+}
+
+void ComposeDispatched(benchmark::State& state) {
+  Arrays& a = arrays(size_of(state));
+  const std::size_t n = a.dq.size();
+  state.SetLabel(std::string(simd::to_string(simd::current_target())));
+  for (auto _ : state) {
+    simd::compose(a.rows(), a.rows(), a.out_rows(), n);
+    benchmark::ClobberMemory();
+  }
+  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations() * n * 64));
+  if (copy_bandwidth() > 0 && state.range(0) != 0)
+    state.counters["roofline"] = benchmark::Counter(static_cast<double>(state.iterations() * n * 64) / copy_bandwidth(), benchmark::Counter::kIsRate);
+}
+void ComposeGlmDualquat(benchmark::State& state) {
+  Arrays& a = arrays(size_of(state));
+  const std::size_t n = a.dq.size();
+  std::vector<glm::dualquat> x, out(n);
+  for (const auto& q : a.dq) x.push_back(glm_interop::to_glm(q));
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < n; ++i) out[i] = x[i] * x[i];
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+}
+void ComposeEigenIsometry3f(benchmark::State& state) {
+  Arrays& a = arrays(size_of(state));
+  const std::size_t n = a.dq.size();
+  std::vector<Eigen::Isometry3f> x, out(n);
+  for (const auto& q : a.dq) x.push_back(eigen::to_isometry(q));
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < n; ++i) out[i] = x[i] * x[i];
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::AddCustomContext("cpu_model", cpu_model());
+  benchmark::AddCustomContext("llc_MB", std::to_string(last_level_cache_bytes() >> 20));
+  benchmark::AddCustomContext("simd_target", std::string(simd::to_string(simd::best_target())));
+  benchmark::Initialize(&argc, argv);
+  // The roof: a quick copy measurement before the registered cases (the Copy case reports it too).
+  {
+    const std::size_t n = dram_floats();
+    std::vector<float> a(n, 1.0f), b(n);
+    std::copy(a.begin(), a.end(), b.begin());  // touch the pages
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < 5; ++k) {
+      std::copy(a.begin(), a.end(), b.begin());
+      benchmark::DoNotOptimize(b.data());
+    }
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    copy_bandwidth() = 5.0 * 2 * static_cast<double>(n * sizeof(float)) / s;
+    benchmark::AddCustomContext("copy_GBps_1thread", std::to_string(copy_bandwidth() / 1e9));
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
+BENCHMARK(Copy)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK(Triad)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK(PeakFma);
+BENCHMARK(FkDispatched)->Args({10'000, 1})->Args({10'000, 2})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
+BENCHMARK(FkScalarJob)->Arg(10'000)->Arg(100'000)->UseRealTime();
+BENCHMARK(FkEigenPerPose)->Arg(10'000)->UseRealTime();
+BENCHMARK(FkOneSkeletonDualQuaternion);
+BENCHMARK(FkOneSkeletonEigenIsometry3f);
+BENCHMARK(TransformPointsDispatched)->Arg(0)->Arg(1);
+BENCHMARK(TransformPointsEigenIsometry3f)->Arg(0)->Arg(1);
+BENCHMARK(ComposeDispatched)->Arg(0)->Arg(1);
+BENCHMARK(ComposeGlmDualquat)->Arg(0)->Arg(1);
+BENCHMARK(ComposeEigenIsometry3f)->Arg(0)->Arg(1);
