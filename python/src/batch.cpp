@@ -57,16 +57,16 @@ using RowMajor3 = RowMajor<T, 3, 3>;
 const std::vector<const char*> dq_shape{"N", "8"}, q_shape{"N", "4"}, p_shape{"N", "3"}, t_shape{"N"};
 
 void bind_products(py::module_& m) {
-  m.def("dual_quaternion_product", [](py::array a, py::array b) {
+  m.def("compose", [](py::array a, py::array b) {
     return map2<DQ, DQ, DQ>(a, b, "a", "b", dq_shape, dq_shape, {8}, [](const auto& x, const auto& y) { return x * y; });
   }, py::arg("a"), py::arg("b"), "Row-wise products a[i] b[i] of (N, 8) dual quaternions (b applied first).");
   m.def("quaternion_product", [](py::array a, py::array b) {
     return map2<Q, Q, Q>(a, b, "a", "b", q_shape, q_shape, {4}, [](const auto& x, const auto& y) { return x * y; });
   }, py::arg("a"), py::arg("b"), "Row-wise Hamilton products of (N, 4) quaternions.");
-  m.def("transform_point", [](py::array q, py::array p) {
+  m.def("transform_points", [](py::array q, py::array p) {
     return map2<DQ, V, V>(q, p, "q", "p", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_point(y); });
   }, py::arg("q"), py::arg("p"), "R p + t for (N, 8) unit dual quaternions and (N, 3) points.");
-  m.def("transform_direction", [](py::array q, py::array v) {
+  m.def("transform_directions", [](py::array q, py::array v) {
     return map2<DQ, V, V>(q, v, "q", "v", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_direction(y); });
   }, py::arg("q"), py::arg("v"), "R v for (N, 8) unit dual quaternions and (N, 3) directions.");
   m.def("rotate", [](py::array q, py::array v) {
@@ -84,9 +84,6 @@ void bind_conversions(py::module_& m) {
   m.def("to_mat4", [](py::array q) {
     return map1<DQ, RowMajor4>(q, "q", dq_shape, {4, 4}, [](const auto& x) { return row_major(dq::to_mat4(x)); });
   }, py::arg("q"), "(N, 4, 4) matrices [n, row, column] of (N, 8) unit dual quaternions.");
-  m.def("from_matrix", [](py::array mat) {
-    return map1<RowMajor4, DQ>(mat, "matrix", {"N", "4", "4"}, {8}, [](const auto& x) { return dq::from_matrix(from_row_major(x)); });
-  }, py::arg("matrix"), "(N, 8) unit dual quaternions of (N, 4, 4) rigid transforms.");
   m.def("quaternion_to_matrix", [](py::array q) {
     return map1<Q, RowMajor3>(q, "q", q_shape, {3, 3}, [](const auto& x) { return row_major(x.to_matrix()); });
   }, py::arg("q"), "(N, 3, 3) rotation matrices of (N, 4) unit quaternions (Quaternion.to_matrix).");
@@ -158,6 +155,10 @@ void bind_interpolation(py::module_& m) {
 }
 
 }  // namespace
+
+py::array from_matrix_rows(const py::array& matrices) {
+  return map1<RowMajor4, DQ>(matrices, "matrix", {"N", "4", "4"}, {8}, [](const auto& x) { return dq::from_matrix(from_row_major(x)); });
+}
 
 void bind_batch(py::module_& m) {
   bind_products(m);

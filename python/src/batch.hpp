@@ -76,4 +76,8 @@ py::array map3(const py::array& a, const py::array& b, const py::object& t, cons
   });
 }
 
+/// (N, 8) unit dual quaternions of (N, 4, 4) rigid transforms (the batch form of from_matrix,
+/// which dispatches on the number of dimensions).
+py::array from_matrix_rows(const py::array& matrices);
+
 }  // namespace dqpy

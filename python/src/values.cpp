@@ -2,7 +2,7 @@
 // the scalar functions over them, in double precision, with the C++ names.
 #include <pybind11/operators.h>
 
-#include "common.hpp"
+#include "batch.hpp"
 
 namespace dqpy {
 namespace {
@@ -251,13 +251,14 @@ void bind_dual_quaternion(py::module_& m) {
 void bind_conversions(py::module_& m) {
   m.def("to_mat4", [](const DQ& q) { return mat_to_numpy(dq::to_mat4(q)); }, py::arg("q"), "The (4, 4) homogeneous matrix (column vectors).");
   m.def("to_mat34", [](const DQ& q) { return mat_to_numpy(dq::to_mat34(q)); }, py::arg("q"), "The top three rows of to_mat4.");
-  m.def("from_matrix", [](py::handle mat) {
+  m.def("from_matrix", [](py::handle mat) -> py::object {
           const auto a = py::array::ensure(mat);
-          if (a && a.ndim() == 2 && a.shape(0) == 3) return dq::from_matrix(mat_from_numpy<3, 4>(mat));
-          return dq::from_matrix(mat_from_numpy<4, 4>(mat));
+          if (a && a.ndim() == 3) return from_matrix_rows(a);
+          if (a && a.ndim() == 2 && a.shape(0) == 3) return py::cast(dq::from_matrix(mat_from_numpy<3, 4>(mat)));
+          return py::cast(dq::from_matrix(mat_from_numpy<4, 4>(mat)));
         },
-        py::arg("matrix"), "The unit dual quaternion of a (4, 4) or (3, 4) rigid transform matrix.");
-
+        py::arg("matrix"),
+        "The unit dual quaternion of a (4, 4) or (3, 4) rigid transform matrix; (N, 4, 4) matrices give (N, 8) dual quaternions.");
   py::enum_<dq::EulerOrder> order(m, "EulerOrder", "The twelve axis sequences.");
   for (auto o : {dq::EulerOrder::XYZ, dq::EulerOrder::XZY, dq::EulerOrder::YXZ, dq::EulerOrder::YZX, dq::EulerOrder::ZXY, dq::EulerOrder::ZYX,
                  dq::EulerOrder::XYX, dq::EulerOrder::XZX, dq::EulerOrder::YXY, dq::EulerOrder::YZY, dq::EulerOrder::ZXZ, dq::EulerOrder::ZYZ})

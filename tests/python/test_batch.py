@@ -1,0 +1,186 @@
+"""Batch functions: against the scalar API (the same C++ formulas, so float64 results are equal
+bit for bit), against NumPy formulas, float32 against float64, shapes, errors and threads."""
+import threading
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import dqkit
+from conftest import hamilton, random_rigid, random_unit_quaternions, rotation_matrix
+
+EPS64 = np.finfo(np.float64).eps
+# float32 against float64 on unit-size values: the float32 computation is a few dozen roundings
+# of 6e-8 each; 256 ulps of float32 bounds it with room and is far below any formula error.
+TOL32 = 256 * np.finfo(np.float32).eps
+
+
+def dqs(q8):
+    return [dqkit.DualQuaternion(q) for q in q8]
+
+
+def test_compose_matches_scalar_and_numpy(rng):
+    a, _, _ = random_rigid(rng, 100)
+    b, _, _ = random_rigid(rng, 100)
+    out = dqkit.compose(a, b)
+    assert out.shape == (100, 8) and out.dtype == np.float64
+    np.testing.assert_array_equal(out, [np.asarray(x * y) for x, y in zip(dqs(a), dqs(b))])
+    real = hamilton(a[:, :4], b[:, :4])
+    dual = hamilton(a[:, :4], b[:, 4:]) + hamilton(a[:, 4:], b[:, :4])
+    np.testing.assert_allclose(out, np.concatenate([real, dual], 1), atol=64 * EPS64 * 4)
+    np.testing.assert_array_equal(dqkit.quaternion_product(a[:, :4], b[:, :4]),
+                                  [np.asarray(dqkit.Quaternion(x) * dqkit.Quaternion(y)) for x, y in zip(a[:, :4], b[:, :4])])
+
+
+def test_transform_points_and_broadcasting(rng):
+    q, r, t = random_rigid(rng, 50)
+    p = rng.normal(size=(50, 3))
+    out = dqkit.transform_points(q, p)
+    np.testing.assert_array_equal(out, [x.transform_point(y) for x, y in zip(dqs(q), p)])
+    np.testing.assert_allclose(out, np.einsum("nij,nj->ni", rotation_matrix(r), p) + t, atol=64 * EPS64 * 4)
+    # One transform for every point, and one point for every transform.
+    np.testing.assert_array_equal(dqkit.transform_points(q[0], p), [dqs(q)[0].transform_point(y) for y in p])
+    np.testing.assert_array_equal(dqkit.transform_points(q, p[0]), [x.transform_point(p[0]) for x in dqs(q)])
+    assert dqkit.transform_points(q[0], p[0]).shape == (3,)
+    np.testing.assert_array_equal(dqkit.transform_directions(q, p), [x.transform_direction(y) for x, y in zip(dqs(q), p)])
+    np.testing.assert_array_equal(dqkit.rotate(q[:, :4], p), [dqkit.Quaternion(x).rotate(y) for x, y in zip(q[:, :4], p)])
+
+
+def test_conversions_match_scalar_and_scipy(rng):
+    q, r, t = random_rigid(rng, 40)
+    m = dqkit.to_mat4(q)
+    assert m.shape == (40, 4, 4)
+    np.testing.assert_array_equal(m, [dqkit.to_mat4(x) for x in dqs(q)])
+    np.testing.assert_allclose(m[:, :3, :3], Rotation.from_quat(np.c_[r[:, 1:], r[:, :1]]).as_matrix(), atol=64 * EPS64)
+    np.testing.assert_allclose(m[:, :3, 3], t, atol=64 * EPS64 * 4)
+    back = dqkit.from_matrix(m)
+    np.testing.assert_array_equal(back, [np.asarray(dqkit.from_matrix(x)) for x in m])
+    np.testing.assert_array_equal(dqkit.quaternion_to_matrix(r), [dqkit.Quaternion(x).to_matrix() for x in r])
+    np.testing.assert_array_equal(dqkit.quaternion_from_matrix(rotation_matrix(r)),
+                                  [np.asarray(dqkit.Quaternion.from_matrix(x)) for x in rotation_matrix(r)])
+    np.testing.assert_array_equal(dqkit.from_rotation_translation(r, t),
+                                  [np.asarray(dqkit.DualQuaternion.from_rotation_translation(dqkit.Quaternion(x), y)) for x, y in zip(r, t)])
+    np.testing.assert_array_equal(dqkit.translation(q), [x.translation() for x in dqs(q)])
+    np.testing.assert_array_equal(dqkit.rotation(q), r)
+    v = dqkit.to_rotation_vector(r)
+    np.testing.assert_allclose(Rotation.from_rotvec(v).as_matrix(), rotation_matrix(r), atol=64 * EPS64)
+    np.testing.assert_array_equal(dqkit.from_rotation_vector(v), [np.asarray(dqkit.Quaternion.from_rotation_vector(x)) for x in v])
+    angles = rng.uniform(-1.2, 1.2, size=(40, 3))
+    e = dqkit.from_euler(dqkit.EulerOrder.ZXY, dqkit.EulerFrame.intrinsic, angles)
+    np.testing.assert_allclose(dqkit.quaternion_to_matrix(e), Rotation.from_euler("ZXY", angles).as_matrix(), atol=64 * EPS64)
+    back_angles, singular = dqkit.to_euler(e, dqkit.EulerOrder.ZXY, dqkit.EulerFrame.intrinsic)
+    assert singular.shape == (40,) and not singular.any()
+    np.testing.assert_allclose(back_angles, angles, atol=1e3 * EPS64)
+
+
+def test_interpolation_matches_scalar(rng):
+    a, _, _ = random_rigid(rng, 30)
+    b, _, _ = random_rigid(rng, 30)
+    t = rng.uniform(0, 1, 30)
+    np.testing.assert_array_equal(dqkit.sclerp(a, b, t), [np.asarray(dqkit.sclerp(x, y, s)) for x, y, s in zip(dqs(a), dqs(b), t)])
+    np.testing.assert_array_equal(dqkit.sclerp(a, b, 0.25), [np.asarray(dqkit.sclerp(x, y, 0.25)) for x, y in zip(dqs(a), dqs(b))])
+    np.testing.assert_array_equal(dqkit.dlb(a, b, t), [np.asarray(dqkit.dlb(x, y, s)) for x, y, s in zip(dqs(a), dqs(b), t)])
+    qa, qb = a[:, :4], b[:, :4]
+    np.testing.assert_array_equal(dqkit.slerp(qa, qb, t),
+                                  [np.asarray(dqkit.slerp(dqkit.Quaternion(x), dqkit.Quaternion(y), s)) for x, y, s in zip(qa, qb, t)])
+    # One key interpolated towards many, over a time axis.
+    assert dqkit.sclerp(a[0], b, 0.5).shape == (30, 8)
+    assert dqkit.sclerp(a[0], b[0], np.linspace(0, 1, 11)).shape == (11, 8)
+
+
+@pytest.mark.parametrize("name", ["compose", "sclerp", "dlb", "transform_points", "to_mat4", "normalized"])
+def test_float32_matches_float64(name, rng):
+    a, _, _ = random_rigid(rng, 64, scale=1.0)
+    b, _, _ = random_rigid(rng, 64, scale=1.0)
+    p = rng.normal(size=(64, 3))
+    args = {"compose": (a, b), "sclerp": (a, b, 0.3), "dlb": (a, b, 0.3), "transform_points": (a, p),
+            "to_mat4": (a,), "normalized": (a,)}[name]
+    f = getattr(dqkit, name)
+    r64 = f(*args)
+    r32 = f(*(x.astype(np.float32) if isinstance(x, np.ndarray) else x for x in args))
+    assert r32.dtype == np.float32 and r64.dtype == np.float64 and r32.shape == r64.shape
+    np.testing.assert_allclose(r32, r64, atol=TOL32 * 4)
+
+
+def test_non_contiguous_inputs_are_read_correctly(rng):
+    a, _, _ = random_rigid(rng, 20)
+    wide = np.zeros((20, 16))
+    wide[:, ::2] = a  # every other column: a strided view
+    np.testing.assert_array_equal(dqkit.compose(wide[:, ::2], a), dqkit.compose(a, a))
+    fortran = np.asfortranarray(a)
+    np.testing.assert_array_equal(dqkit.to_mat4(fortran), dqkit.to_mat4(a))
+    np.testing.assert_array_equal(dqkit.to_mat4(a[::-1]), dqkit.to_mat4(a)[::-1])
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: dqkit.compose(np.zeros((5, 7)), np.zeros((5, 8))), r"a: expected shape \(N, 8\) or \(8,\), got \(5, 7\)"),
+    (lambda: dqkit.transform_points(np.zeros((5, 8)), np.zeros((5, 4))), r"p: expected shape \(N, 3\) or \(3,\), got \(5, 4\)"),
+    (lambda: dqkit.to_mat4(np.zeros((2, 3, 8))), r"q: expected shape \(N, 8\) or \(8,\), got \(2, 3, 8\)"),
+    (lambda: dqkit.from_matrix(np.zeros((5, 3, 4))), r"matrix: expected shape \(N, 4, 4\)"),
+    (lambda: dqkit.slerp(np.zeros((5, 8)), np.zeros((5, 4)), 0.5), r"a: expected shape \(N, 4\)"),
+    (lambda: dqkit.compose(np.zeros((5, 8), np.int64), np.zeros((5, 8))), "expected dtype float32 or float64, got int64"),
+    (lambda: dqkit.compose(np.zeros((5, 8), np.float16), np.zeros((5, 8))), "expected dtype float32 or float64, got float16"),
+    (lambda: dqkit.compose(np.zeros((5, 8), np.float32), np.zeros((5, 8))), "b: dtype float64 does not match the other inputs' float32"),
+    (lambda: dqkit.compose(np.zeros((5, 8)), np.zeros((4, 8))), "b: N = 4 does not match a's N = 5"),
+    (lambda: dqkit.sclerp(np.zeros((5, 8)), np.zeros((5, 8)), np.zeros(3)), "t: N = 3 does not match"),
+    (lambda: dqkit.local_to_model([-1, 0], np.zeros((4, 3, 8))), r"local: expected shape \(F, 2, 8\) or \(2, 8\)"),
+    (lambda: dqkit.local_to_model([-1, 1], np.zeros((2, 8))), "joint 1 has parent 1"),
+])
+def test_wrong_shapes_and_dtypes_raise_value_error(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+def test_empty_batches():
+    assert dqkit.compose(np.zeros((0, 8)), np.zeros((0, 8))).shape == (0, 8)
+    assert dqkit.to_mat4(np.zeros((0, 8), np.float32)).shape == (0, 4, 4)
+
+
+def test_batch_from_several_threads(rng):
+    a, _, _ = random_rigid(rng, 20000)
+    b, _, _ = random_rigid(rng, 20000)
+    expected = dqkit.sclerp(a, b, 0.3)
+    results = [None] * 6
+    errors = []
+
+    def work(i):
+        try:
+            for _ in range(3):
+                results[i] = dqkit.sclerp(a, b, 0.3)
+        except Exception as e:  # noqa: BLE001  (reported below)
+            errors.append(e)
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(6)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+    for r in results:
+        np.testing.assert_array_equal(r, expected)
+
+
+def test_long_batches_release_the_gil(rng):
+    a, _, _ = random_rigid(rng, 400000)
+    started = threading.Event()
+
+    def work():
+        started.set()
+        for _ in range(3):
+            dqkit.sclerp(a, a[::-1], 0.5)
+
+    t = threading.Thread(target=work)
+    t.start()
+    started.wait()
+    count = 0
+    while t.is_alive():  # runs only while the worker's C++ loop does not hold the GIL
+        count += 1
+    t.join()
+    assert count > 10000, f"the main thread ran {count} iterations during the batch: the GIL was held"
+
+
+def test_normalized_and_conjugate(rng):
+    a, _, _ = random_rigid(rng, 10)
+    scaled = a * rng.uniform(0.5, 2, size=(10, 1))
+    np.testing.assert_array_equal(dqkit.normalized(scaled), [np.asarray(dqkit.DualQuaternion(x).normalized()) for x in scaled])
+    np.testing.assert_array_equal(dqkit.conjugate(a), [np.asarray(dqkit.DualQuaternion(x).conjugate()) for x in a])
