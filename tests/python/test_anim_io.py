@@ -1,0 +1,200 @@
+"""Skeletons, batch forward kinematics, BVH files, import, IK and skinning from Python."""
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import dqkit
+from conftest import CMU_BVH, SIMPLE_SKIN, hamilton, need, random_rigid, rotation_matrix
+
+EPS = np.finfo(np.float64).eps
+
+
+def numpy_forward_kinematics(parents, local):
+    """model[j] = model[parent] · local[j] with NumPy products over frames (the reference)."""
+    model = np.empty_like(local)
+    for j, p in enumerate(parents):
+        if p < 0:
+            model[:, j] = local[:, j]
+            continue
+        a, b = model[:, p], local[:, j]
+        model[:, j, :4] = hamilton(a[:, :4], b[:, :4])
+        model[:, j, 4:] = hamilton(a[:, :4], b[:, 4:]) + hamilton(a[:, 4:], b[:, :4])
+    return model
+
+
+def test_skeleton_built_from_python():
+    raw = dqkit.RawSkeleton()
+    root = raw.add("hips", -1)
+    spine = raw.add("spine", root, dqkit.DualQuaternion.from_translation([0, 1, 0]))
+    raw.add("head", spine, dqkit.DualQuaternion.from_translation([0, 0.5, 0]), end_site=True)
+    s = dqkit.Skeleton(raw)
+    assert len(s) == 3 and list(s.parents) == [-1, 0, 1] and s.names == ["hips", "spine", "head"]
+    assert s.find("spine") == 1 and s.find("tail") == -1 and s.is_end_site(2)
+    model = dqkit.local_to_model(s, s.rest_pose)
+    np.testing.assert_array_equal(dqkit.translation(model), [[0, 0, 0], [0, 1, 0], [0, 1.5, 0]])
+    bad = dqkit.RawSkeleton()
+    bad.add("a", 3)
+    with pytest.raises(dqkit.ReadError):
+        dqkit.Skeleton(bad)
+
+
+def test_batch_forward_kinematics_on_cmu():
+    bvh = dqkit.read_bvh_file(str(need(CMU_BVH)))
+    skeleton = dqkit.bvh_skeleton(bvh)
+    anim = dqkit.bvh_animation(bvh, skeleton)
+    local = anim.locals
+    assert local.shape == (bvh.frame_count, len(skeleton), 8)
+    model = dqkit.local_to_model(skeleton, local)
+    ref = numpy_forward_kinematics(skeleton.parents, local)
+    scale = np.abs(dqkit.translation(model.reshape(-1, 8))).max()
+    np.testing.assert_allclose(model, ref, atol=64 * EPS * scale)
+    # Against the scalar API for a few frames, bit for bit (the same product).
+    for f in (0, 1, bvh.frame_count - 1):
+        world = [None] * len(skeleton)
+        for j, p in enumerate(skeleton.parents):
+            world[j] = dqkit.DualQuaternion(local[f, j]) if p < 0 else world[p] * dqkit.DualQuaternion(local[f, j])
+        np.testing.assert_array_equal(model[f], [np.asarray(w) for w in world])
+    # One pose, float32, and parents given as a list.
+    np.testing.assert_array_equal(dqkit.local_to_model(list(skeleton.parents), local[5]), model[5])
+    m32 = dqkit.local_to_model(skeleton, local.astype(np.float32))
+    assert m32.dtype == np.float32
+    # float32 world positions of a 30-joint chain: errors accumulate along the chain (≈ depth ×
+    # a few ulps of the largest coordinate); 1e-3 of the skeleton's size bounds that with margin.
+    np.testing.assert_allclose(dqkit.translation(m32.reshape(-1, 8)), dqkit.translation(model.reshape(-1, 8)), atol=1e-3 * scale)
+
+
+def test_bvh_errors_name_file_and_line(tmp_path):
+    bad = tmp_path / "bad.bvh"
+    bad.write_text("HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 x\n")
+    with pytest.raises(dqkit.ReadError, match=r"bad\.bvh:4: expected a finite number, found 'x'"):
+        dqkit.read_bvh_file(str(bad))
+    with pytest.raises(ValueError):  # ReadError is a ValueError
+        dqkit.read_bvh_file(str(tmp_path / "missing.bvh"))
+    with pytest.raises(dqkit.ReadError, match="mine.bvh:"):
+        dqkit.read_bvh("HIERARCHY\nROOT\n", "mine.bvh")
+
+
+def test_bvh_write_read_round_trip(tmp_path):
+    bvh = dqkit.read_bvh_file(str(need(CMU_BVH)))
+    out = tmp_path / "copy.bvh"
+    dqkit.write_bvh_file(bvh, str(out))
+    with pytest.raises(dqkit.ReadError):
+        dqkit.write_bvh_file(bvh, str(out))  # never replaces a file unless told
+    again = dqkit.read_bvh_file(str(out))
+    assert [j.name for j in again.joints] == [j.name for j in bvh.joints]
+    np.testing.assert_array_equal(again.motion, bvh.motion)
+    assert dqkit.write_bvh(again) == out.read_text()
+    # Changing the motion from NumPy, and another rotation order that keeps the transforms.
+    motion = bvh.motion
+    motion[:, 0] += 10
+    bvh.motion = motion
+    np.testing.assert_array_equal(bvh.motion[:, 0], again.motion[:, 0] + 10)
+    zyx = dqkit.with_rotation_order(again, dqkit.EulerOrder.ZYX)
+    s1, s2 = dqkit.bvh_skeleton(again), dqkit.bvh_skeleton(zyx)
+    w1 = dqkit.local_to_model(s1, dqkit.bvh_animation(again, s1).locals[:50])
+    w2 = dqkit.local_to_model(s2, dqkit.bvh_animation(zyx, s2).locals[:50])
+    # The file stores degrees with 6 decimals (BVH text): positions agree to that resolution.
+    np.testing.assert_allclose(dqkit.translation(w1.reshape(-1, 8)), dqkit.translation(w2.reshape(-1, 8)), atol=1e-3)
+
+
+def test_animation_sampling_and_load_motion():
+    motion = dqkit.load_motion(str(need(CMU_BVH)))
+    anim = motion.animation
+    assert motion.format == "bvh" and motion.bvh is not None
+    ft = anim.frame_time
+    np.testing.assert_array_equal(dqkit.sample(anim, 3 * ft), anim.locals[3])
+    mid = dqkit.sample(anim, 3.5 * ft, dqkit.Interpolation.screw)
+    np.testing.assert_array_equal(mid, [np.asarray(dqkit.sclerp(dqkit.DualQuaternion(a), dqkit.DualQuaternion(b), 0.5))
+                                        for a, b in zip(anim.locals[3], anim.locals[4])])
+    rebuilt = dqkit.Animation(anim.locals, ft)
+    assert rebuilt.frame_count == anim.frame_count and np.array_equal(rebuilt.locals, anim.locals)
+
+
+def test_import_runs_the_packaged_worker_without_forking():
+    scene = dqkit.import_scene(str(need(SIMPLE_SKIN))) if dqkit.HAVE_IMPORT else pytest.skip("built without Assimp")
+    assert len(scene.skeleton) > 0 and scene.meshes and scene.animations
+    assert os.path.exists(os.environ["DQKIT_IMPORT_WORKER"])
+    with pytest.raises(dqkit.ReadError, match="nothing.gltf"):
+        dqkit.import_scene("/nonexistent/nothing.gltf")
+
+
+def test_ik_reaches_a_target():
+    model = dqkit.KinematicModel.arm7()
+    n = model.parameters()
+    q = np.zeros(n)
+    effector = len(model.skeleton) - 1
+    goal_q = np.full(n, 0.3)
+    target = dqkit.translation(dqkit.model_transforms(model, goal_q)[effector])
+    solver = dqkit.IkSolver(model)
+    result = solver.solve([dqkit.IkTask.reach(effector, target)], q)
+    assert result.status == dqkit.IkStatus.converged, result
+    reached = dqkit.translation(dqkit.model_transforms(model, q)[effector])
+    np.testing.assert_allclose(reached, target, atol=1e-9)  # IkOptions.position_tolerance is 1e-10
+    assert model.within_limits(q)
+    with pytest.raises(ValueError, match=r"q: expected a writable contiguous float64 array of shape \(7,\)"):
+        solver.solve([dqkit.IkTask.reach(effector, target)], np.zeros(3))
+
+
+def numpy_dqs(positions, bones, weights, bone_world_times_inverse_bind):
+    """Dual quaternion skinning (Kavan et al. 2008) written with NumPy: blend the bones' dual
+    quaternions (signs aligned to the pivot, the influence of largest weight, as docs/skinning.md
+    specifies), normalize, transform."""
+    out = np.empty_like(positions)
+    for v, p in enumerate(positions):
+        qs = bone_world_times_inverse_bind[bones[v]]
+        pivot = qs[np.argmax(weights[v]), :4]
+        signs = np.where(qs[:, :4] @ pivot < 0, -1.0, 1.0)
+        b = (weights[v, :, None] * signs[:, None] * qs).sum(0)
+        n = np.linalg.norm(b[:4])
+        r, d = b[:4] / n, b[4:] / n
+        t = 2 * hamilton(d, r * [1, -1, -1, -1])[1:]
+        out[v] = rotation_matrix(r) @ p + t
+    return out
+
+
+def test_skin_vertices_against_numpy(rng):
+    V, B, K = 200, 4, 3
+    positions = rng.uniform(-1, 1, size=(V, 3))
+    bones = np.stack([rng.choice(B, K, replace=False) for _ in range(V)])
+    weights = rng.uniform(0.1, 1, size=(V, K))
+    weights /= weights.sum(1, keepdims=True)
+    inverse_bind = np.stack([np.eye(4)] * B)
+    inverse_bind[:, :3, 3] = rng.uniform(-1, 1, size=(B, 3))  # rigid binds (translations)
+    skin = dqkit.build_skin(positions, bones, weights, inverse_bind)
+    assert skin.vertex_count == V and skin.bone_count == B
+    world, _, _ = random_rigid(rng, B, scale=1.0)
+    out = dqkit.skin_vertices(skin, world, dqkit.SkinningMethod.dqs)
+    assert out.shape == (V, 3) and out.dtype == np.float32
+    q = dqkit.compose(world, dqkit.from_matrix(inverse_bind))
+    # The library skins in float32 (positions, palette): 1e-5 on unit-size coordinates is ~100 ulps.
+    np.testing.assert_allclose(out, numpy_dqs(positions, bones, weights, q), atol=1e-5)
+    lbs = dqkit.skin_vertices(skin, world, dqkit.SkinningMethod.lbs)
+    m = dqkit.to_mat4(q)
+    ref = np.einsum("vk,vkij,vj->vi", weights, m[bones], np.c_[positions, np.ones(V)])[:, :3]
+    np.testing.assert_allclose(lbs, ref, atol=1e-5)
+    with pytest.raises(ValueError, match=r"bone_world: expected shape \(4, 8\)"):
+        dqkit.skin_vertices(skin, world[:3])
+    with pytest.raises(ValueError, match="needs centres of rotation"):
+        dqkit.skin_vertices(skin, world, dqkit.SkinningMethod.cor)
+
+
+def test_installed_module_imports_from_the_prefix(tmp_path):
+    build = os.environ.get("DQKIT_PYTHON_BUILD_DIR")
+    if not build:
+        pytest.skip("DQKIT_PYTHON_BUILD_DIR (the CMake build directory) not set; scripts/test.sh sets it")
+    prefix = tmp_path / "prefix"
+    subprocess.run(["cmake", "--install", build, "--prefix", str(prefix), "--component", "python"], check=True,
+                   stdout=subprocess.DEVNULL)
+    site = next(prefix.rglob("dqkit/__init__.py")).parent.parent
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "DQKIT_IMPORT_WORKER")}
+    env["PYTHONPATH"] = str(site)
+    code = ("import dqkit, os, sys; assert dqkit.__file__.startswith(sys.argv[1]), dqkit.__file__; "
+            "print(dqkit.DualQuaternion.from_translation([1, 2, 3]).translation()); "
+            "w = os.environ['DQKIT_IMPORT_WORKER']; assert w.startswith(sys.argv[1]), w; "
+            "s = dqkit.import_scene(sys.argv[2]) if dqkit.HAVE_IMPORT else None; print(len(s.skeleton) if s else 0)")
+    out = subprocess.run([sys.executable, "-c", code, str(site), str(need(SIMPLE_SKIN))], env=env, check=True,
+                         capture_output=True, text=True, cwd=tmp_path).stdout.split("\n")
+    assert out[0] == "[1. 2. 3.]"
