@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <new>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
@@ -29,6 +32,21 @@
 #include "dq/io/scene.hpp"
 #include "models.hpp"
 #endif
+
+// Allocations counted while `counting` is set (to show that a frame allocates nothing). GCC
+// inlines these replacements into callers and then mistakes the matching malloc/free for a mismatch.
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+namespace {
+std::atomic<bool> counting{false};
+std::atomic<long> allocations{0};
+}  // namespace
+void* operator new(std::size_t n) {
+  if (counting) ++allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace dq {
 namespace {
@@ -508,6 +526,27 @@ TEST_P(SkinnedCharacter, AnimatedFramesAreFiniteAndOrderIndependent) {
 INSTANTIATE_TEST_SUITE_P(Files, SkinnedCharacter,
                          ::testing::Values("glTF2/simple_skin/simple_skin.gltf", "X/BCN_Epileptic.X", "X/Testwuson.X",
                                            "FBX/animation_with_skeleton.fbx", "FBX/huesitos.fbx", "Collada/box_nested_animation.dae"));
+
+TEST(SkinningFiles, AFrameAllocatesNothing) {
+  DQKIT_REQUIRE_MODELS();
+  const ImportedScene scene = import("X/BCN_Epileptic.X");
+  Expected<SceneSkin> skins = SceneSkin::build(scene);
+  ASSERT_TRUE(skins.has_value());
+  SkinnedFrame frame = skins->make_frame();
+  SkinningThreads threads(2);
+  std::vector<DualQuaternion<double>> world;
+  ASSERT_TRUE(pose_at(scene, 0, 0, world).ok());  // sizes `world`
+  allocations = 0;
+  counting = true;
+  for (int f = 0; f < 20; ++f)
+    for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor}) {
+      const bool posed = pose_at(scene, 0, 0.1 * f, world).ok();
+      const bool skinned = skins->skin(world, m, threads, frame).ok();
+      if (!posed || !skinned) counting = false;
+    }
+  counting = false;
+  EXPECT_EQ(allocations.load(), 0);
+}
 
 TEST(SkinningFiles, FormatsKeepTheVertexOrder) {
   DQKIT_REQUIRE_MODELS();

@@ -97,9 +97,11 @@ Status pose_at(const ImportedScene& scene, std::size_t animation, double time, s
   }
   if (animation >= scene.animations.size())
     return Error{"animation " + std::to_string(animation) + " does not exist (the file has " + std::to_string(scene.animations.size()) + ")"};
-  std::vector<DualQuaternion<double>> local(joints);
-  sample<double>(scene.animations[animation].animation, time, Interpolation::screw, WrapMode::clamp, local);
-  local_to_model<DualQuaternion<double>>(scene.skeleton, local, joint_world);
+  // Sampled into the output, then forward kinematics in place: no allocation once it is sized.
+  const Animation& anim = scene.animations[animation].animation;
+  if (anim.joint_count < joints) std::copy(scene.skeleton.rest_pose().begin(), scene.skeleton.rest_pose().end(), joint_world.begin());
+  sample<double>(anim, time, Interpolation::screw, WrapMode::clamp, joint_world);
+  local_to_model<DualQuaternion<double>>(scene.skeleton.parents(), joint_world, joint_world);
   return {};
 }
 

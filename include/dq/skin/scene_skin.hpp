@@ -67,6 +67,7 @@ class SceneSkin {
 
 /// The skeleton's world transforms at `time` seconds of animation `animation` (clamped to its
 /// duration; the rest pose when the scene has no animation). Errors: animation out of range.
+/// Allocates only to size `joint_world` (so not at all when called again for the same scene).
 Status pose_at(const ImportedScene& scene, std::size_t animation, double time, std::vector<DualQuaternion<double>>& joint_world);
 
 enum class MeshFormat { csv, obj, ply, gltf };
