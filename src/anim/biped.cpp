@@ -107,7 +107,8 @@ const Biped& Biped::instance() {
 
 std::array<double, Biped::dofs> Biped::clamp(std::span<const double> q) const {
   std::array<double, dofs> out{};
-  for (std::size_t i = 0; i < dofs && i < q.size(); ++i) out[i] = std::clamp(q[i], dofs_[i].lower, dofs_[i].upper);
+  DQ_PRECONDITION(q.size() == dofs, "Biped::clamp needs 36 values", out);
+  for (std::size_t i = 0; i < dofs; ++i) out[i] = std::clamp(q[i], dofs_[i].lower, dofs_[i].upper);
   return out;
 }
 

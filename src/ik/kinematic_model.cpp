@@ -105,11 +105,13 @@ int KinematicModel::find_parameter(std::string_view name) const noexcept {
 }
 
 void KinematicModel::clamp(std::span<double> q) const {
-  for (std::size_t i = 0; i < q.size() && i < limits_.size(); ++i) q[i] = std::clamp(q[i], limits_[i].lower, limits_[i].upper);
+  DQ_PRECONDITION(q.size() == limits_.size(), "KinematicModel::clamp needs one value per parameter");
+  for (std::size_t i = 0; i < q.size(); ++i) q[i] = std::clamp(q[i], limits_[i].lower, limits_[i].upper);
 }
 
 bool KinematicModel::within_limits(std::span<const double> q, double slack) const {
-  for (std::size_t i = 0; i < q.size() && i < limits_.size(); ++i)
+  DQ_PRECONDITION(q.size() == limits_.size(), "KinematicModel::within_limits needs one value per parameter", false);
+  for (std::size_t i = 0; i < q.size(); ++i)
     if (!(q[i] >= limits_[i].lower - slack && q[i] <= limits_[i].upper + slack)) return false;
   return true;
 }

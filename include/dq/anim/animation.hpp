@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "dq/util/assert.hpp"
 #include "dq/anim/animation_data.hpp"
 #include "dq/convert/matrix.hpp"
 #include "dq/interp/rigid.hpp"
@@ -47,10 +48,11 @@ DualQuaternion<T> interpolate(const DualQuaternion<T>& a, const DualQuaternion<T
   return a;
 }
 
-/// Samples the animation at `time` (seconds) into `out` (one entry per joint, any scalar type).
-/// An animation with no frames leaves `out` unchanged; one frame is constant.
+/// Samples the animation at `time` (seconds) into `out` (any scalar type). An animation with no
+/// frames leaves `out` unchanged; one frame is constant. Precondition: one output per joint.
 template <class T>
 void sample(const Animation& anim, double time, Interpolation mode, WrapMode wrap, std::span<DualQuaternion<T>> out) {
+  DQ_PRECONDITION(out.size() == anim.joint_count, "sample needs one output per joint of the animation");
   if (anim.frame_count == 0) return;
   const double n = static_cast<double>(anim.frame_count);
   double x = anim.frame_time > 0 ? time / anim.frame_time : 0;  // in frames
@@ -65,7 +67,7 @@ void sample(const Animation& anim, double time, Interpolation mode, WrapMode wra
   const std::size_t f1 = (f0 + 1 < anim.frame_count) ? f0 + 1 : (wrap == WrapMode::loop ? 0 : f0);
   const T u = static_cast<T>(x - static_cast<double>(f0));
   const auto a = anim.frame(f0), b = anim.frame(f1);
-  for (std::size_t j = 0; j < anim.joint_count && j < out.size(); ++j) {
+  for (std::size_t j = 0; j < anim.joint_count; ++j) {
     out[j] = (u == T(0) || f0 == f1) ? a[j].template cast<T>()
                                       : interpolate(a[j].template cast<T>(), b[j].template cast<T>(), u, mode);
   }

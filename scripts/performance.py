@@ -1,0 +1,142 @@
+#!/usr/bin/python3
+"""Runs the benchmark suite and regenerates docs/performance.md and docs/performance.png.
+
+    /usr/bin/python3 scripts/performance.py [BUILD_DIR]      (default build/release)
+
+Each benchmark binary runs once, with 3 repetitions; the page shows medians, and every ratio is
+taken between two cases of the same run (these machines are shared and noisy). The raw results are
+kept in docs/performance.json. The page says which CPU, which dispatch target, and the command.
+"""
+import json
+import os
+import subprocess
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ARGS = ["--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true", "--benchmark_format=json"]
+
+
+def run(build, name):
+    out = subprocess.run([os.path.join(build, "bench", name)] + ARGS, check=True, capture_output=True, text=True)
+    return json.loads(out.stdout)
+
+
+def medians(result):
+    return {b["run_name"]: b for b in result["benchmarks"] if b.get("aggregate_name") == "median"}
+
+
+def fmt(x, unit=""):
+    for scale, suffix in ((1e9, " G"), (1e6, " M"), (1e3, " k")):
+        if abs(x) >= scale:
+            return f"{x / scale:.3g}{suffix}{unit}"
+    return f"{x:.3g} {unit}".rstrip()
+
+
+def main(build):
+    batch, core = run(build, "bench_batch"), run(build, "bench_core")
+    with open(os.path.join(ROOT, "docs", "performance.json"), "w") as f:
+        json.dump({"bench_batch": batch, "bench_core": core}, f, indent=1)
+    b, c = medians(batch), medians(core)
+    ctx = batch["context"]
+    copy1 = b["Copy/1/real_time"]["bytes_per_second"]
+
+    def ns(cases, name):
+        return cases[name]["real_time"] if cases[name]["time_unit"] == "ns" else cases[name]["real_time"] * 1e3
+
+    lines = []
+    add = lines.append
+    add(f"Machine: {ctx['cpu_model']}, {ctx['num_cpus']} cores, last-level cache {ctx['llc_MB']} MB; widest dispatch "
+        f"target: {ctx['simd_target']}; GCC 12, Release, portable flags (no `-march`). Command: "
+        "`/usr/bin/python3 scripts/performance.py` (runs `bench_batch` and `bench_core` with 3 repetitions, medians; "
+        "raw results in `docs/performance.json`).")
+    add("")
+    add("### The machine's limits (same run)")
+    add("| measure | 1 thread | 2 threads |")
+    add("| --- | ---: | ---: |")
+    for case in ("Copy", "Triad"):
+        add(f"| {case.lower()} bandwidth, arrays of 4 × LLC | {fmt(b[case + '/1/real_time']['bytes_per_second'], 'B/s')} | "
+            f"{fmt(b[case + '/2/real_time']['bytes_per_second'], 'B/s')} |")
+    add(f"| peak AVX2 FMA | {fmt(b['PeakFma']['flops'], 'FLOP/s')} | |")
+    add("")
+    add("### Forward kinematics, 64-joint skeletons (float)")
+    add("| case | joints/s | bytes/s | × Eigen `Isometry3f` pose by pose | fraction of the 1-thread copy roofline |")
+    add("| --- | ---: | ---: | ---: | ---: |")
+    eigen = b["FkEigenPerPose/10000/real_time"]["joints_per_s"]
+    for name, label in (
+        ("FkDispatched/10000/1/real_time", "10,000 skeletons, dqkit dispatched, 1 thread"),
+        ("FkDispatched/10000/2/real_time", "10,000 skeletons, dqkit dispatched, 2 threads"),
+        ("FkScalarJob/10000/real_time", "10,000 skeletons, dqkit job, auto-vectorized"),
+        ("FkEigenPerPose/10000/real_time", "10,000 skeletons, Eigen `Isometry3f` pose by pose"),
+        ("FkDispatched/100000/1/real_time", "100,000 skeletons, dqkit dispatched, 1 thread"),
+        ("FkDispatched/100000/2/real_time", "100,000 skeletons, dqkit dispatched, 2 threads"),
+        ("FkScalarJob/100000/real_time", "100,000 skeletons, dqkit job, auto-vectorized"),
+    ):
+        r = b[name]
+        add(f"| {label} | {fmt(r['joints_per_s'])} | {fmt(r['bytes_per_second'], 'B/s')} | {r['joints_per_s'] / eigen:.2f} | "
+            f"{r['bytes_per_second'] / copy1:.2f} |")
+    one_dq, one_eigen = b["FkOneSkeletonDualQuaternion"]["joints_per_s"], b["FkOneSkeletonEigenIsometry3f"]["joints_per_s"]
+    add(f"| one skeleton at a time, dqkit `DualQuaternion<float>` | {fmt(one_dq)} | | {one_dq / one_eigen:.2f} × Eigen one at a time | |")
+    add(f"| one skeleton at a time, Eigen `Isometry3f` | {fmt(one_eigen)} | | 1.00 | |")
+    add("")
+    add("### Points and compositions (one transform per element; hot: 4096 elements, DRAM: arrays of 4 × LLC)")
+    add("| case | hot, per second | DRAM, per second | × peer (hot / DRAM) |")
+    add("| --- | ---: | ---: | ---: |")
+    tp = (b["TransformPointsDispatched/0"]["points_per_s"], b["TransformPointsDispatched/1"]["points_per_s"])
+    te = (b["TransformPointsEigenIsometry3f/0"]["points_per_s"], b["TransformPointsEigenIsometry3f/1"]["points_per_s"])
+    add(f"| transform points, dqkit dispatched | {fmt(tp[0])} | {fmt(tp[1])} | {tp[0] / te[0]:.2f} / {tp[1] / te[1]:.2f} × Eigen |")
+    add(f"| transform points, Eigen `Isometry3f` | {fmt(te[0])} | {fmt(te[1])} | 1.00 |")
+    cd = (b["ComposeDispatched/0"]["per_s"], b["ComposeDispatched/1"]["per_s"])
+    cg = (b["ComposeGlmDualquat/0"]["per_s"], b["ComposeGlmDualquat/1"]["per_s"])
+    ce = (b["ComposeEigenIsometry3f/0"]["per_s"], b["ComposeEigenIsometry3f/1"]["per_s"])
+    add(f"| compose, dqkit dispatched | {fmt(cd[0])} | {fmt(cd[1])} | {cd[0] / cg[0]:.2f} / {cd[1] / cg[1]:.2f} × GLM `dualquat` |")
+    add(f"| compose, GLM `dualquat` | {fmt(cg[0])} | {fmt(cg[1])} | 1.00 |")
+    add(f"| compose, Eigen `Isometry3f` | {fmt(ce[0])} | {fmt(ce[1])} | {ce[0] / cg[0]:.2f} / {ce[1] / cg[1]:.2f} |")
+    add("")
+    add("### One at a time (bench_core, 1024 operations per case)")
+    add("| case | median per 1024 | ratio |")
+    add("| --- | ---: | --- |")
+    glm_mat4 = ns(c, "ComposeGlmMat4<float>")
+    for name in ("ComposeDualQuaternion<float>", "ComposeGlmDualquat<float>", "ComposeGlmMat4<float>",
+                 "ComposeEigenMatrix4<float>", "ComposeEigenIsometry<float>"):
+        add(f"| {name} | {ns(c, name):.0f} ns | {ns(c, name) / glm_mat4:.2f} × GLM `mat4` |")
+    eig = ns(c, "SlerpEigen")
+    for name in ("SlerpDqkit", "SlerpEigen", "SlerpGlm"):
+        add(f"| {name} | {ns(c, name):.0f} ns | {ns(c, name) / eig:.2f} × Eigen |")
+
+    page = os.path.join(ROOT, "docs", "performance.md")
+    text = open(page).read()
+    begin, end = "<!-- generated by scripts/performance.py: begin -->", "<!-- generated by scripts/performance.py: end -->"
+    new = begin + "\n" + "\n".join(lines) + "\n" + end
+    if begin in text:
+        text = text[: text.index(begin)] + new + text[text.index(end) + len(end):]
+    else:
+        text = text.rstrip() + "\n\n## The batch kernels and the suite against the peers\n" + new + "\n"
+    open(page, "w").write(text)
+
+    fig, ax = plt.subplots(1, 2, figsize=(13, 4))
+    names = ["FK 10k ×64\n1 thread", "FK 10k ×64\n2 threads", "FK 100k ×64\n1 thread", "FK 100k ×64\n2 threads"]
+    keys = ["FkDispatched/10000/1/real_time", "FkDispatched/10000/2/real_time", "FkDispatched/100000/1/real_time",
+            "FkDispatched/100000/2/real_time"]
+    ax[0].bar(names, [b[k]["bytes_per_second"] / copy1 for k in keys])
+    ax[0].axhline(1.0, color="grey", linestyle=":")
+    ax[0].set_ylabel("fraction of the 1-thread copy bandwidth")
+    ax[0].set_title("Batch forward kinematics against the memory roofline")
+    ratios = {"FK 10k vs Eigen": b["FkDispatched/10000/1/real_time"]["joints_per_s"] / eigen,
+              "one skeleton vs Eigen": one_dq / one_eigen,
+              "points vs Eigen (hot)": tp[0] / te[0], "points vs Eigen (DRAM)": tp[1] / te[1],
+              "compose vs GLM dq (hot)": cd[0] / cg[0], "slerp vs Eigen": eig / ns(c, "SlerpDqkit")}
+    ax[1].barh(list(ratios), list(ratios.values()))
+    ax[1].axvline(1.0, color="grey", linestyle=":")
+    ax[1].set_xlabel("dqkit speed ÷ peer speed (same run)")
+    ax[1].set_title("Ratios to the peers")
+    fig.tight_layout()
+    fig.savefig(os.path.join(ROOT, "docs", "performance.png"), dpi=80)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "release"))
