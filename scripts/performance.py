@@ -104,6 +104,9 @@ def main(build):
     for name in ("ComposeDualQuaternion<float>", "ComposeGlmDualquat<float>", "ComposeGlmMat4<float>",
                  "ComposeEigenMatrix4<float>", "ComposeEigenIsometry<float>"):
         add(f"| {name} | {ns(c, name):.0f} ns | {ns(c, name) / glm_mat4:.2f} × GLM `mat4` |")
+    glm_dmat4 = ns(c, "ComposeGlmMat4<double>")
+    for name in ("ComposeDualQuaternion<double>", "ComposeEigenIsometry<double>", "ComposeGlmMat4<double>"):
+        add(f"| {name} | {ns(c, name):.0f} ns | {ns(c, name) / glm_dmat4:.2f} × GLM `dmat4` |")
     eig = ns(c, "SlerpEigen")
     for name in ("SlerpDqkit", "SlerpEigen", "SlerpGlm"):
         add(f"| {name} | {ns(c, name):.0f} ns | {ns(c, name) / eig:.2f} × Eigen |")
