@@ -23,12 +23,32 @@ run_suite() {  # name, extra cmake flags...
 
 echo "== Release build and tests"
 run_suite release
+echo "== Python: pytest on the module of the Release build (tests/python), then pip install from pyproject.toml"
+python=/usr/bin/python3  # Debian's, with NumPy (the first python3 on a PATH may be another)
+if [ -d build/release/python/dqkit ]; then
+  rc=0
+  DQKIT_PYTHON_BUILD_DIR=build/release PYTHONPATH=build/release/python \
+    "$python" -m pytest -p no:cacheprovider -q tests/python || rc=$?
+  if [ "$rc" -eq 5 ]; then echo "pytest collected no tests: failing"; exit 1; fi
+  [ "$rc" -eq 0 ] || exit "$rc"
+  pip_target=$(mktemp -d)
+  if ! "$python" -m pip install --no-build-isolation --no-deps --target "$pip_target" . >"$pip_target.log" 2>&1; then
+    cat "$pip_target.log"; exit 1
+  fi
+  (cd "$pip_target" && PYTHONPATH="$pip_target" "$python" -c \
+    "import dqkit, sys; assert dqkit.__file__.startswith(sys.argv[1]); print('pip --target install imports from', sys.argv[1])" "$pip_target")
+  rm -rf "$pip_target" "$pip_target.log"
+else
+  echo "The Release build has no Python module (DQKIT_BUILD_PYTHON off: pybind11-dev or python3-numpy missing): failing"
+  exit 1
+fi
+
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
-run_suite asan-ubsan -DDQKIT_SANITIZE=ON -DDQKIT_BUILD_BENCHMARKS=OFF
+run_suite asan-ubsan -DDQKIT_SANITIZE=ON -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF
 
 if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo; then
   echo "== Release build with -mavx2 -mfma: the unit tests (the packaging tests are the same as above)"
-  cmake -S . -B build/avx2 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="-mavx2 -mfma" -DDQKIT_BUILD_BENCHMARKS=OFF \
+  cmake -S . -B build/avx2 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="-mavx2 -mfma" -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF \
     -DDQKIT_BUILD_EXAMPLES=OFF >/dev/null
   cmake --build build/avx2 -j "$jobs"
   run_ctest --test-dir build/avx2 -j "$jobs" -LE package
