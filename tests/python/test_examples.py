@@ -1,4 +1,5 @@
 """The examples in examples/python run, and write what they say they write."""
+import os
 import pathlib
 import subprocess
 import sys
@@ -14,8 +15,10 @@ EXAMPLES = pathlib.Path(__file__).resolve().parents[2] / "examples" / "python"
 
 
 def run(name, *args, cwd):
+    # The examples import the module under test (the one this process imported), from any directory.
+    env = dict(os.environ, PYTHONPATH=str(pathlib.Path(dqkit.__file__).resolve().parents[1]))
     return subprocess.run([sys.executable, str(EXAMPLES / name), *map(str, args)], check=True, capture_output=True,
-                          text=True, cwd=cwd, timeout=300).stdout
+                          text=True, cwd=cwd, env=env, timeout=300).stdout
 
 
 def test_cmu_trajectory_plots_a_png(tmp_path):
