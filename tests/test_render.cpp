@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -164,6 +165,35 @@ TEST(Render, LinesOnTopShowThroughAndPngKeepsThePixels) {
   EXPECT_TRUE(std::equal(im.rgba.begin(), im.rgba.end(), data));
   stbi_image_free(data);
   std::filesystem::remove(path);
+}
+
+// A window (GLFW) where there is a display: the same drawing, shown; without a display, an error
+// that says so. (Run under xvfb-run to exercise the window.)
+TEST(Render, WindowShowsTheSameDrawing) {
+  const bool display = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY");
+  Expected<Renderer> w = Renderer::create_window({160, 120, 1, {1, 1, 1, 1}}, "dqkit test");
+  if (!display) {
+    ASSERT_FALSE(w.has_value());
+    EXPECT_NE(w.error().message.find("no window"), std::string::npos) << w.error().message;
+    return;
+  }
+  ASSERT_TRUE(w.has_value()) << w.error().message;
+  Renderer headless = make(160, 120);
+  Scene scene;
+  scene.meshes.push_back(cube(1));
+  Camera cam;
+  cam.yaw = 0.5, cam.pitch = 0.4, cam.distance = 6, cam.near_plane = 0.1, cam.far_plane = 20;
+  w->draw(scene, cam);
+  headless.draw(scene, cam);
+  EXPECT_TRUE(w->present());
+  const Image a = w->read(), b = headless.read();
+  const Coverage ca = coverage(a, 0, 160), cb = coverage(b, 0, 160);
+  EXPECT_EQ(ca.x0, cb.x0);
+  EXPECT_EQ(ca.x1, cb.x1);
+  EXPECT_EQ(ca.y0, cb.y0);
+  EXPECT_EQ(ca.y1, cb.y1);
+  EXPECT_EQ(ca.count, cb.count);
+  EXPECT_FALSE(headless.present());
 }
 
 TEST(Render, ErrorsSayWhy) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -122,6 +123,11 @@ TEST_F(SkinCli, ErrorsSayWhat) {
   r = run("render " + model("X/Testwuson.X") + " --camera 10 --out " + (dir_ / "y.png").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("--camera must be"), std::string::npos) << r.err;
+  r = run("render " + model("X/Testwuson.X") + " --window");  // CTest runs without a display
+  if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) {
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("no window"), std::string::npos) << r.err;
+  }
   r = run("skin " + (dir_ / "missing.gltf").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("missing.gltf"), std::string::npos) << r.err;

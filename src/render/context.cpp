@@ -14,10 +14,40 @@ std::string egl_error(const char* what) {
   std::snprintf(code, sizeof code, "0x%04x", static_cast<unsigned>(eglGetError()));
   return std::string("rendering: ") + what + " (EGL error " + code + ")";
 }
+
+thread_local const Context* current = nullptr;
+
+class EglContext final : public Context {
+ public:
+  ~EglContext() override {
+    release_if_current();
+    if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
+    // The display is shared by every context of the process: it stays initialized.
+  }
+  void acquire() const override { eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_); }
+  void release() const override { eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT); }
+  bool present(unsigned, int, int) override { return false; }
+  EGLDisplay display_ = EGL_NO_DISPLAY;
+  EGLContext context_ = EGL_NO_CONTEXT;
+};
+
 }  // namespace
 
-Expected<std::unique_ptr<Context>> Context::create() {
-  std::unique_ptr<Context> c(new Context);
+void Context::make_current() const {
+  if (current == this) return;
+  if (current) current->release();
+  acquire();
+  current = this;
+}
+
+void Context::release_if_current() const {
+  if (current != this) return;
+  release();
+  current = nullptr;
+}
+
+Expected<std::unique_ptr<Context>> create_headless() {
+  auto c = std::make_unique<EglContext>();
   // Mesa's surfaceless platform needs no X server, Wayland compositor or GPU (llvmpipe).
   EGLDisplay display = EGL_NO_DISPLAY;
   const char* extensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
@@ -41,17 +71,9 @@ Expected<std::unique_ptr<Context>> Context::create() {
   EGLContext context = eglCreateContext(display, configs > 0 ? config : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, context_attributes);
   if (context == EGL_NO_CONTEXT) return Error{egl_error("no OpenGL 3.3 core context")};
   c->context_ = context;
-  if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) return Error{egl_error("the context cannot be made current without a surface")};
-  return c;
-}
-
-void Context::make_current() const { eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_); }
-
-Context::~Context() {
-  if (!display_) return;
-  eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-  if (context_) eglDestroyContext(display_, context_);
-  // The display is shared by every context of the process: it stays initialized.
+  c->make_current();
+  if (eglGetCurrentContext() != context) return Error{egl_error("the context cannot be made current without a surface")};
+  return std::unique_ptr<Context>(std::move(c));
 }
 
 }  // namespace dq::render::detail

@@ -1,4 +1,5 @@
-// The headless OpenGL context of dqkit::render: EGL on Mesa's surfaceless platform.
+// The OpenGL contexts of dqkit::render: headless (EGL on Mesa's surfaceless platform) and, where
+// GLFW is available and there is a display, a window.
 #pragma once
 
 #include <memory>
@@ -10,17 +11,25 @@ namespace dq::render::detail {
 
 class Context {
  public:
-  /// An OpenGL 3.3 core context, current on the calling thread, with no surface.
-  static Expected<std::unique_ptr<Context>> create();
-  ~Context();
-  Context(const Context&) = delete;
-  Context& operator=(const Context&) = delete;
+  virtual ~Context() = default;
+  /// Makes the context current on the calling thread, first releasing the thread's current one
+  /// if it is another (GLVND refuses an EGL context on a thread where a GLX context is current).
   void make_current() const;
+  /// Windows: copies the framebuffer object `fbo` (width × height) to the window, shows it and
+  /// handles events; returns false once the window was closed. Headless: nothing, false.
+  virtual bool present(unsigned fbo, int width, int height) = 0;
 
- private:
-  Context() = default;
-  void* display_ = nullptr;
-  void* context_ = nullptr;
+ protected:
+  virtual void acquire() const = 0;
+  virtual void release() const = 0;
+  /// For the destructors of derived classes: releases the context if it is the thread's current.
+  void release_if_current() const;
 };
+
+/// An OpenGL 3.3 core context with no surface, current on the calling thread.
+Expected<std::unique_ptr<Context>> create_headless();
+/// A window of width × height showing an OpenGL 3.3 core context (GLFW); an error when dqkit was
+/// built without GLFW or there is no display.
+Expected<std::unique_ptr<Context>> create_window(int width, int height, const std::string& title);
 
 }  // namespace dq::render::detail

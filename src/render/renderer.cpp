@@ -156,6 +156,9 @@ struct Renderer::Impl {
     glDeleteBuffers(1, &ebo);
   }
 
+  /// The multisampled image into the single-sampled framebuffer.
+  void resolve();
+
   void uniforms(GLuint prog, const Camera& camera, double aspect, const Color& color) {
     glUseProgram(prog);
     const auto mv = to_float(camera.view()), pr = to_float(camera.projection(aspect));
@@ -185,11 +188,16 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 Renderer::~Renderer() = default;
 
-Expected<Renderer> Renderer::create(const RenderOptions& options) {
+Expected<Renderer> Renderer::create(const RenderOptions& options) { return make(options, nullptr); }
+
+Expected<Renderer> Renderer::create_window(const RenderOptions& options, const std::string& title) { return make(options, &title); }
+
+Expected<Renderer> Renderer::make(const RenderOptions& options, const std::string* window_title) {
   if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
     return Error{"rendering: the image size must be between 1 and 16384 pixels on each side"};
   if (options.samples < 1 || options.samples > 16) return Error{"rendering: samples must be between 1 and 16"};
-  Expected<std::unique_ptr<detail::Context>> context = detail::Context::create();
+  Expected<std::unique_ptr<detail::Context>> context =
+      window_title ? detail::create_window(options.width, options.height, *window_title) : detail::create_headless();
   if (!context) return context.error();
   auto impl = std::make_unique<Impl>();
   impl->context = std::move(*context);
@@ -295,13 +303,26 @@ void Renderer::draw(const Scene& scene, const Camera& camera, Viewport vp) {
   glDisable(GL_SCISSOR_TEST);
 }
 
+void Renderer::Impl::resolve() {
+  context->make_current();
+  const int w = options.width, h = options.height;
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo);
+  glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}
+
+bool Renderer::present() {
+  Impl& g = *impl_;
+  g.resolve();
+  const bool open = g.context->present(g.resolve_fbo, width(), height());
+  glBindFramebuffer(GL_FRAMEBUFFER, g.msaa_fbo);
+  return open;
+}
+
 Image Renderer::read() const {
   Impl& g = *impl_;
-  g.context->make_current();
+  g.resolve();
   const int w = width(), h = height();
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.msaa_fbo);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g.resolve_fbo);
-  glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, g.resolve_fbo);
   Image image;
   image.width = w, image.height = h;

@@ -25,12 +25,14 @@ struct RenderArgs {
   std::string camera;
   bool skeleton = false;
   bool force = false;
+  bool window = false;
 };
 
 int run_render(const RenderArgs& a) {
   std::vector<SkinningMethod> methods{SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor};
   if (a.method != "all") methods = {method_named(a.method)};
-  if (a.output.size() < 5 || a.output.substr(a.output.size() - 4) != ".png") throw Failure("--out must name a .png file");
+  if (!a.window && (a.output.size() < 5 || a.output.substr(a.output.size() - 4) != ".png"))
+    throw Failure("--out must name a .png file (or use --window)");
   const int width = a.width > 0 ? a.width : (methods.size() > 1 ? 1200 : 800);
   const int height = a.height > 0 ? a.height : (methods.size() > 1 ? 400 : 600);
   double yaw = 35, pitch = 20, distance = 0;
@@ -55,7 +57,7 @@ int run_render(const RenderArgs& a) {
     std::snprintf(suffix, sizeof suffix, "_%04zu.png", i);
     return stem + suffix;
   };
-  if (!a.force)
+  if (!a.force && !a.window)
     for (std::size_t i = 0; i < times.size(); ++i)
       if (std::filesystem::exists(name_of(i))) throw Failure(name_of(i) + ": exists (use --force to replace it)");
 
@@ -85,7 +87,9 @@ int run_render(const RenderArgs& a) {
     camera.near_plane = std::max(distance - 2 * bounds.radius(), distance * 1e-3);
     camera.far_plane = distance + 2 * bounds.radius();
   }
-  Expected<render::Renderer> renderer = render::Renderer::create({width, height, 4, {1, 1, 1, 1}});
+  const render::RenderOptions options{width, height, 4, {1, 1, 1, 1}};
+  Expected<render::Renderer> renderer = a.window ? render::Renderer::create_window(options, "dqkit render " + a.model.file)
+                                                 : render::Renderer::create(options);
   if (!renderer) throw Failure(renderer.error().message);
   // LBS red, DQS blue, CoR green (the order of SkinningMethod).
   const render::Color colors[] = {{0.85f, 0.45f, 0.35f, 1}, {0.35f, 0.55f, 0.85f, 1}, {0.40f, 0.72f, 0.42f, 1}};
@@ -93,7 +97,8 @@ int run_render(const RenderArgs& a) {
   drawn.meshes.resize(1);
   drawn.meshes[0].triangles = frame.triangles;
   Progress progress("dqkit: rendering", times.size());
-  for (std::size_t i = 0; i < times.size(); ++i) {
+  // In a window the frames play in a loop until the window is closed.
+  for (std::size_t i = 0; i < times.size(); i = a.window ? (i + 1) % times.size() : i + 1) {
     renderer->clear();
     for (std::size_t k = 0; k < methods.size(); ++k) {
       skin_at(times[i], methods[k]);
@@ -115,6 +120,10 @@ int run_render(const RenderArgs& a) {
       }
       renderer->draw(drawn, camera, viewports[k]);
     }
+    if (a.window) {
+      if (!renderer->present()) return 0;
+      continue;
+    }
     if (Status s = renderer->read().write_png(name_of(i)); !s) throw Failure(s.error().message);
     progress.update(i + 1);
   }
@@ -130,12 +139,13 @@ Runner define_render(CLI::App& c) {
   c.add_option("--fps", a->fps, "Frames per second of a sequence")->check(finite_in(0, 1000));
   c.add_option("--method", a->method, "lbs, dqs, cor, or all: the three side by side (LBS, DQS, CoR from the left)")
       ->check(CLI::IsMember({"lbs", "dqs", "cor", "all"}));
-  c.add_option("--out", a->output, "PNG file to write")->required();
+  c.add_option("--out", a->output, "PNG file to write (required unless --window)");
   c.add_option("--width", a->width, "Image width in pixels (default 1200 for all, else 800)")->check(CLI::Range(1, 16384));
   c.add_option("--height", a->height, "Image height in pixels (default 400 for all, else 600)")->check(CLI::Range(1, 16384));
   c.add_option("--camera", a->camera, "Orbit camera 'yaw,pitch[,distance]', degrees (default 35,20 at the distance that frames the whole animation)");
   c.add_flag("--skeleton", a->skeleton, "Draw the bones as lines over the skin");
   c.add_flag("--force", a->force, "Replace the output files if they exist");
+  c.add_flag("--window", a->window, "Show the frames in a window, in a loop until it is closed (needs a display), instead of writing PNGs");
   return [a] { return run_render(*a); };
 }
 

@@ -3,7 +3,8 @@
 // that frames a bounding box, several viewports in one image, PNG output.
 //
 // The context is Mesa's EGL on the surfaceless platform (no X server, no GPU needed: llvmpipe),
-// rendering into a multisampled framebuffer object. Independent of the skinning code: it draws
+// rendering into a multisampled framebuffer object; or, where there is a display, a GLFW window
+// that shows the same framebuffer (create_window, present). Independent of the skinning code: it draws
 // positions, normals and triangles.
 //
 // Conventions: right-handed world, column vectors; the camera looks at `target` from `distance`
@@ -118,6 +119,9 @@ class Renderer {
   /// Creates the headless context and the framebuffer. Errors say what is missing (no EGL
   /// display, no OpenGL 3.3 core context, ...).
   static Expected<Renderer> create(const RenderOptions& options);
+  /// The same drawing shown in a window of the image's size (GLFW), for when there is a display:
+  /// draw, then present(). Errors: dqkit built without GLFW, no display.
+  static Expected<Renderer> create_window(const RenderOptions& options, const std::string& title = "dqkit");
   Renderer(Renderer&&) noexcept;
   Renderer& operator=(Renderer&&) noexcept;
   ~Renderer();
@@ -132,10 +136,14 @@ class Renderer {
   void draw(const Scene& scene, const Camera& camera, Viewport viewport = {});
   /// Reads the image back.
   Image read() const;
+  /// Window renderers: shows the image drawn since clear() and handles the window's events;
+  /// returns false once the user has closed the window. Headless renderers: false.
+  bool present();
 
  private:
   struct Impl;
   explicit Renderer(std::unique_ptr<Impl> impl);
+  static Expected<Renderer> make(const RenderOptions& options, const std::string* window_title);
   std::unique_ptr<Impl> impl_;
 };
 
