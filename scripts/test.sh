@@ -23,6 +23,8 @@ run_suite() {  # name, extra cmake flags...
 
 echo "== Release build and tests"
 run_suite release
+echo "== The renderer's window (GLFW) on a virtual X display (Xvfb); CTest ran the headless renderer"
+xvfb-run -a build/release/tests/test_render --gtest_filter='Render.Window*'
 echo "== Python: pytest on the module of the Release build (tests/python), then pip install from pyproject.toml"
 python=/usr/bin/python3  # Debian's, with NumPy (the first python3 on a PATH may be another)
 if [ -d build/release/python/dqkit ]; then
