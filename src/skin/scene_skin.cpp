@@ -71,7 +71,8 @@ Status SceneSkin::skin(std::span<const DualQuaternion<double>> joint_world, Skin
                        SkinnedFrame& frame) {
   DQ_PRECONDITION(joint_world.size() == joint_count_ && frame.size() == vertex_count_ &&
                       (frame.nx.size() == vertex_count_) == normals_,
-                  "SceneSkin::skin needs one transform per joint and a frame from make_frame()", Error{"precondition"});
+                  "SceneSkin::skin needs one transform per joint and a frame from make_frame()",
+                  Error{"SceneSkin::skin: precondition violated (see the message above)"});
   for (std::size_t i = 0; i < parts_.size(); ++i) {
     const Part& part = parts_[i];
     for (std::size_t b = 0; b < part.bone_joints.size(); ++b) bone_world_[i][b] = joint_world[part.bone_joints[b]];
