@@ -287,6 +287,36 @@ void TransformPointsEigenIsometry3f(benchmark::State& state) {
   state.counters["points_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
 }
 
+/// slerp over arrays of 4096 quaternion pairs, t = 0.3: the dispatched kernel (no failure case)
+/// against Eigen's slerp per element (which divides by sin Ω).
+void SlerpDispatched(benchmark::State& state) {
+  Arrays& a = arrays(4096);
+  const std::size_t n = a.dq.size();
+  state.SetLabel(std::string(simd::to_string(simd::current_target())));
+  // The real parts of the first array against those of the second half rotated: n pairs.
+  for (auto _ : state) {
+    simd::slerp({a.c[0].data(), a.c[1].data(), a.c[2].data(), a.c[3].data()}, {a.c[4].data(), a.c[5].data(), a.c[6].data(), a.c[7].data()}, 0.3f,
+                {a.o8[0].data(), a.o8[1].data(), a.o8[2].data(), a.o8[3].data()}, n);
+    benchmark::ClobberMemory();
+  }
+  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+}
+void SlerpEigen(benchmark::State& state) {
+  Arrays& a = arrays(4096);
+  const std::size_t n = a.dq.size();
+  std::vector<Eigen::Quaternionf> x, y, out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x.emplace_back(a.c[0][i], a.c[1][i], a.c[2][i], a.c[3][i]);
+    y.emplace_back(a.c[4][i], a.c[5][i], a.c[6][i], a.c[7][i]);
+  }
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < n; ++i) out[i] = x[i].slerp(0.3f, y[i]);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+}
+
 void ComposeDispatched(benchmark::State& state) {
   Arrays& a = arrays(size_of(state));
   const std::size_t n = a.dq.size();
@@ -361,6 +391,8 @@ BENCHMARK(FkOneSkeletonDualQuaternion);
 BENCHMARK(FkOneSkeletonEigenIsometry3f);
 BENCHMARK(TransformPointsDispatched)->Arg(0)->Arg(1);
 BENCHMARK(TransformPointsEigenIsometry3f)->Arg(0)->Arg(1);
+BENCHMARK(SlerpDispatched);
+BENCHMARK(SlerpEigen);
 BENCHMARK(ComposeDispatched)->Arg(0)->Arg(1);
 BENCHMARK(ComposeGlmDualquat)->Arg(0)->Arg(1);
 BENCHMARK(ComposeEigenIsometry3f)->Arg(0)->Arg(1);

@@ -96,6 +96,9 @@ def main(build):
     add(f"| compose, dqkit dispatched | {fmt(cd[0])} | {fmt(cd[1])} | {cd[0] / cg[0]:.2f} / {cd[1] / cg[1]:.2f} × GLM `dualquat` |")
     add(f"| compose, GLM `dualquat` | {fmt(cg[0])} | {fmt(cg[1])} | 1.00 |")
     add(f"| compose, Eigen `Isometry3f` | {fmt(ce[0])} | {fmt(ce[1])} | {ce[0] / cg[0]:.2f} / {ce[1] / cg[1]:.2f} |")
+    sd, se = b["SlerpDispatched"]["per_s"], b["SlerpEigen"]["per_s"]
+    add(f"| slerp over arrays, dqkit dispatched (no failure case) | {fmt(sd)} | | {sd / se:.2f} × Eigen per element |")
+    add(f"| slerp, Eigen `Quaternionf::slerp` per element | {fmt(se)} | | 1.00 |")
     add("")
     add("### One at a time (bench_core, 1024 operations per case)")
     add("| case | median per 1024 | ratio |")
@@ -132,7 +135,8 @@ def main(build):
     ratios = {"FK 10k vs Eigen": b["FkDispatched/10000/1/real_time"]["joints_per_s"] / eigen,
               "one skeleton vs Eigen": one_dq / one_eigen,
               "points vs Eigen (hot)": tp[0] / te[0], "points vs Eigen (DRAM)": tp[1] / te[1],
-              "compose vs GLM dq (hot)": cd[0] / cg[0], "slerp vs Eigen": eig / ns(c, "SlerpDqkit")}
+              "compose vs GLM dq (hot)": cd[0] / cg[0], "slerp arrays vs Eigen": sd / se,
+              "slerp one at a time vs Eigen": eig / ns(c, "SlerpDqkit")}
     ax[1].barh(list(ratios), list(ratios.values()))
     ax[1].axvline(1.0, color="grey", linestyle=":")
     ax[1].set_xlabel("dqkit speed ÷ peer speed (same run)")

@@ -2,7 +2,9 @@
 // against the scalar types: bit for bit (the same operations in the same order, no FMA).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <utility>
 #include <vector>
@@ -106,6 +108,42 @@ TEST(Simd, BatchForwardKinematicsEqualsTheJobBitForBit) {
     for (std::size_t j = 0; j < joints; ++j)
       for (std::size_t p = 0; p < poses; ++p) ASSERT_EQ(got.view().get(j, p), expected.view().get(j, p)) << j << " " << p;
   });
+}
+
+TEST(Simd, SlerpOverArraysHasNoFailureCaseAndFloatAccuracy) {
+  // Random pairs plus the thesis' failure cases: equal endpoints, a few ulps apart, exactly and
+  // nearly opposite, off the unit sphere. Reference: dq::slerp in long double. Bound: 16 float
+  // ulps per component (about twenty operations of half an ulp each, and series truncated below
+  // an ulp), far below what a wrong branch or a division by sin Ω would give.
+  test::Random rng(8);
+  std::vector<Quaternion<float>> a, b;
+  for (int k = 0; k < 1000; ++k) a.push_back(rng.rotation<float>()), b.push_back(rng.rotation<float>());
+  const Quaternion<float> q = rng.rotation<float>();
+  const Quaternion<float> tiny = Quaternion<float>::from_axis_angle({0.3f, -0.2f, 0.9f}, 1e-6f);
+  for (const Quaternion<float>& other : {q, q * tiny, -q, -(q * tiny), q * 1.001f, Quaternion<float>(q.x, -q.w, q.z, -q.y)}) {
+    a.push_back(q);
+    b.push_back(other);
+  }
+  const std::size_t n = a.size();
+  std::vector<float> in[8], out[4];
+  for (auto& v : in) v.resize(n);
+  for (auto& v : out) v.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    in[0][i] = a[i].w, in[1][i] = a[i].x, in[2][i] = a[i].y, in[3][i] = a[i].z;
+    in[4][i] = b[i].w, in[5][i] = b[i].x, in[6][i] = b[i].y, in[7][i] = b[i].z;
+  }
+  for (const float t : {0.0f, 0.3f, 0.5f, 1.0f, 1.5f}) {
+    for_each_target([&](Target) {
+      simd::slerp({in[0].data(), in[1].data(), in[2].data(), in[3].data()}, {in[4].data(), in[5].data(), in[6].data(), in[7].data()}, t,
+                  {out[0].data(), out[1].data(), out[2].data(), out[3].data()}, n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const Quaternion<long double> want = slerp(a[i].cast<long double>(), b[i].cast<long double>(), static_cast<long double>(t));
+        const long double got[4] = {out[0][i], out[1][i], out[2][i], out[3][i]}, ref[4] = {want.w, want.x, want.y, want.z};
+        for (int k = 0; k < 4; ++k)
+          ASSERT_LE(std::abs(got[k] - ref[k]), 16 * std::numeric_limits<float>::epsilon()) << "t " << t << " pair " << i << " component " << k;
+      }
+    });
+  }
 }
 
 TEST(Simd, DispatchReportsWhatTheCpuHas) {

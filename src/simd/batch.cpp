@@ -7,6 +7,10 @@
 
 #include <atomic>
 #include <cstring>
+#include <numbers>
+
+#include "dq/core/series.hpp"
+#include "dq/interp/rotation.hpp"
 
 namespace dq::simd {
 
@@ -51,7 +55,30 @@ struct Lanes {
   [[gnu::always_inline]] friend Lanes operator*(Lanes a, Lanes b) { return a.v * b.v; }
   [[gnu::always_inline]] friend Lanes operator/(Lanes a, Lanes b) { return a.v / b.v; }
   [[gnu::always_inline]] friend Lanes operator-(Lanes a) { return -a.v; }
+  /// Lane by lane: a where `condition` holds, else b.
+  [[gnu::always_inline]] friend Lanes select_less(Lanes x, Lanes y, Lanes a, Lanes b) { return x.v < y.v ? a.v : b.v; }
+  [[gnu::always_inline]] friend Lanes sqrt(Lanes a) {
+    vec<N> r;
+    for (int i = 0; i < N; ++i) r[i] = __builtin_sqrtf(a.v[i]);  // one vector instruction (-fno-math-errno)
+    return r;
+  }
 };
+
+/// Σ c_k x^k by Horner's rule on lanes.
+template <int N, std::size_t K>
+[[gnu::always_inline]] inline Lanes<N> polynomial(Lanes<N> x, const std::array<float, K>& c) {
+  Lanes<N> acc = c[K - 1];
+  for (std::size_t k = K - 1; k-- > 0;) acc = acc * x + Lanes<N>(c[k]);
+  return acc;
+}
+// Coefficients in float: atan(z)/z in z² (for z ≤ tan π/8), cos h and sin h / h in h² (for h ≤ π/2).
+constexpr auto kAtanc = detail::series_coefficients<float, 10>([](std::size_t k) { return (k % 2 ? -1.0f : 1.0f) / float(2 * k + 1); });
+constexpr auto kCos = detail::series_coefficients<float, 8>([](std::size_t k) {
+  return (k % 2 ? -1.0f : 1.0f) * detail::inverse_factorial<float>(2 * k);
+});
+constexpr auto kSinc = detail::series_coefficients<float, 8>([](std::size_t k) {
+  return (k % 2 ? -1.0f : 1.0f) * detail::inverse_factorial<float>(2 * k + 1);
+});
 
 template <int N>
 [[gnu::always_inline]] inline Lanes<N> load(const float* p) {
@@ -73,6 +100,44 @@ template <int N>
 template <int N>
 struct Kernels {
   using V = Lanes<N>;
+  /// slerp for t in [0, 1], branch-free: the shortest arc's relative rotation r = (w, v) has
+  /// w ≥ 0, so its half angle Ω ∈ [0, π/2]; Ω/|v| from atan with one argument halving (the series
+  /// then converges to float precision in 10 terms), and cos and sinc of tΩ ≤ π/2 from 8 terms.
+  /// Near w = 0 (Ω near π/2) Ω/|v| = (π/2 − atan(w/|v|))/|v|; near |v| = 0 it tends to 1/w, with no
+  /// division by |v|.
+  [[gnu::always_inline]] static void slerp(QuaternionRows<const float> a, QuaternionRows<const float> b, float t,
+                                           QuaternionRows<float> out, std::size_t n) {
+    std::size_t i = 0;
+    const V tt = t, one = 1.0f, zero = 0.0f, half_pi = std::numbers::pi_v<float> / 2;
+    for (; i + N <= n; i += N) {
+      Quaternion<V> qa(load<N>(a.w + i), load<N>(a.x + i), load<N>(a.y + i), load<N>(a.z + i));
+      const Quaternion<V> qb(load<N>(b.w + i), load<N>(b.x + i), load<N>(b.y + i), load<N>(b.z + i));
+      qa = qa * (one / sqrt(dot(qa, qa)));
+      const V sign = select_less(dot(qa, qb), zero, -one, one);
+      Quaternion<V> r = detail::hamilton(qa.conjugate(), qb * sign);
+      r = r * (one / sqrt(dot(r, r)));
+      const Vec3<V> v = r.vec();
+      const V s = sqrt(dot(v, v));
+      // atan(z)/z for z ∈ [0, 1] through z' = z / (1 + √(1 + z²)) ≤ tan π/8: atan z = 2 atan z'.
+      auto atanc = [&](V z) {
+        const V d = one + sqrt(one + z * z), zh = z / d;
+        return V(2.0f) * polynomial(zh * zh, kAtanc) / d;
+      };
+      const V small_angle = atanc(s / r.w) / r.w;                        // w ≥ s: Ω = atan(s/w)
+      const V z = r.w / select_less(s, r.w, one, s);                     // (s < w lanes: unused)
+      const V large_angle = (half_pi - z * atanc(z)) / select_less(s, r.w, one, s);
+      const V omega_over_s = select_less(s, r.w, small_angle, large_angle);
+      const Vec3<V> u = v * (omega_over_s * tt);
+      const V h2 = dot(u, u);
+      const Quaternion<V> e(polynomial(h2, kCos), u * polynomial(h2, kSinc));
+      const Quaternion<V> result = detail::hamilton(qa, e);
+      store<N>(out.w + i, result.w), store<N>(out.x + i, result.x), store<N>(out.y + i, result.y), store<N>(out.z + i, result.z);
+    }
+    for (; i < n; ++i) {
+      const Quaternion<float> q = dq::slerp(Quaternion<float>(a.w[i], a.x[i], a.y[i], a.z[i]), Quaternion<float>(b.w[i], b.x[i], b.y[i], b.z[i]), t);
+      out.w[i] = q.w, out.x[i] = q.x, out.y[i] = q.y, out.z[i] = q.z;
+    }
+  }
   [[gnu::always_inline]] static void compose(ConstRows a, ConstRows b, Rows out, std::size_t n) {
     std::size_t i = 0;
     for (; i + N <= n; i += N) {
@@ -101,6 +166,10 @@ struct Kernels {
 #define DQKIT_TARGET_KERNELS(name, lanes, attribute)                                                                    \
   [[gnu::target(attribute), gnu::flatten]] void compose_##name(ConstRows a, ConstRows b, Rows out, std::size_t n) {     \
     Kernels<lanes>::compose(a, b, out, n);                                                                              \
+  }                                                                                                                     \
+  [[gnu::target(attribute), gnu::flatten]] void slerp_##name(QuaternionRows<const float> a, QuaternionRows<const float> b, float t, \
+                                                             QuaternionRows<float> out, std::size_t n) {                \
+    Kernels<lanes>::slerp(a, b, t, out, n);                                                                             \
   }                                                                                                                     \
   [[gnu::target(attribute), gnu::flatten]] void transform_points_##name(ConstRows q, std::array<const float*, 3> p,     \
                                                                         std::array<float*, 3> out, std::size_t n) {     \
@@ -171,6 +240,22 @@ void transform_points(ConstRows q, std::array<const float*, 3> p, std::array<flo
         const DualQuaternion<float> d{q.rw[i], q.rx[i], q.ry[i], q.rz[i], q.dw[i], q.dx[i], q.dy[i], q.dz[i]};
         const Vec3<float> r = d.transform_point({p[0][i], p[1][i], p[2][i]});
         out[0][i] = r.x, out[1][i] = r.y, out[2][i] = r.z;
+      }
+  }
+}
+
+void slerp(QuaternionRows<const float> a, QuaternionRows<const float> b, float t, QuaternionRows<float> out, std::size_t n) {
+  const bool in_range = t >= 0.0f && t <= 1.0f;  // the polynomials' range (NaN t: dq::slerp too)
+  switch (in_range ? current_target() : Target::scalar) {
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+    case Target::avx512: return slerp_avx512(a, b, t, out, n);
+    case Target::avx2: return slerp_avx2(a, b, t, out, n);
+    case Target::sse2: return slerp_sse2(a, b, t, out, n);
+#endif
+    default:
+      for (std::size_t i = 0; i < n; ++i) {
+        const Quaternion<float> q = dq::slerp(Quaternion<float>(a.w[i], a.x[i], a.y[i], a.z[i]), Quaternion<float>(b.w[i], b.x[i], b.y[i], b.z[i]), t);
+        out.w[i] = q.w, out.x[i] = q.x, out.y[i] = q.y, out.z[i] = q.z;
       }
   }
 }

@@ -35,6 +35,19 @@ void compose(ConstRows a, ConstRows b, Rows out, std::size_t n);
 /// out[i] = q[i] applied to the point p[i] (R p + t), for i < n; components x, y, z.
 void transform_points(ConstRows q, std::array<const float*, 3> p, std::array<float*, 3> out, std::size_t n);
 
+/// Four component arrays of quaternions (w, x, y, z).
+template <class T>
+struct QuaternionRows {
+  T *w, *x, *y, *z;
+};
+
+/// out[i] = slerp(a[i], b[i], t) for i < n: the shortest arc, inputs normalized first, no failure
+/// case (equal, nearly opposite and opposite endpoints give unit results), as dq::slerp. Computed
+/// branch-free on the vector lanes with polynomials accurate to float precision on the range
+/// t ∈ [0, 1] covers; other t (extrapolation) run dq::slerp itself. Not bit-identical to
+/// dq::slerp (a different evaluation of the same function): within a few ulps (tested).
+void slerp(QuaternionRows<const float> a, QuaternionRows<const float> b, float t, QuaternionRows<float> out, std::size_t n);
+
 /// The batch forward kinematics job with the dispatched product. Precondition: job.validate().
 void run(const ForwardKinematicsJob<float>& job);
 
