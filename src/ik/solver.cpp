@@ -18,7 +18,14 @@ namespace dq {
 namespace {
 
 constexpr int kMaxLevels = 4;
-constexpr double kLevelScale = 1e-6;  // cost weight of each lower priority level relative to the one above
+constexpr double kLevelScale = 1e-6;
+/// kLevelScale^k for each priority level k (the weight of its cost in the merit).
+constexpr std::array<double, kMaxLevels> kLevelWeight = [] {
+  std::array<double, kMaxLevels> w{};
+  double v = 1;
+  for (double& x : w) x = v, v *= kLevelScale;
+  return w;
+}();  // cost weight of each lower priority level relative to the one above
 
 bool is_position_like(TaskKind k) { return k == TaskKind::position || k == TaskKind::point_on_line; }
 
@@ -156,7 +163,7 @@ struct Evaluation {
 bool better(const Evaluation& a, const Evaluation& b, double floor) {
   double ma = 0, mb = 0;
   for (std::size_t l = 0; l < kMaxLevels; ++l) {
-    const double scale = std::pow(kLevelScale, static_cast<double>(l));
+    const double scale = kLevelWeight[l];
     ma += scale * (a.level[l] > floor ? a.level[l] : 0);
     mb += scale * (b.level[l] > floor ? b.level[l] : 0);
   }
@@ -179,7 +186,7 @@ Evaluation evaluate(const KinematicModel& model, std::span<const IkTask> tasks, 
     const X& w = ws.world[static_cast<std::size_t>(task.joint)];
     task_residual<X, double>(task, w, ws.residual.data() + row);
     const std::size_t rows = task_rows(task.kind);
-    double level = std::pow(kLevelScale, task.priority);
+    const double level = kLevelWeight[static_cast<std::size_t>(task.priority)];
     for (std::size_t k = 0; k < rows; ++k) {
       const double rk = ws.residual[static_cast<Eigen::Index>(row + k)];
       e.cost += level * task.weight * rk * rk;
@@ -251,7 +258,7 @@ double newton_terms(const KinematicModel& model, std::span<const IkTask> tasks, 
       H f(0.0);
       for (const IkTask& task : tasks) {
         task_residual<XH, H>(task, ws.world_h[static_cast<std::size_t>(task.joint)], r.data());
-        const double level = std::pow(kLevelScale, task.priority);
+        const double level = kLevelWeight[static_cast<std::size_t>(task.priority)];
         for (std::size_t k = 0; k < task_rows(task.kind); ++k) f += r[k] * r[k] * (0.5 * level * task.weight);
       }
       cost = f.real;
