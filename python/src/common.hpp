@@ -146,7 +146,7 @@ void bind_skin(py::module_& m);
 namespace pybind11::detail {
 template <>
 struct type_caster<dq::Vec3<double>> {
-  PYBIND11_TYPE_CASTER(dq::Vec3<double>, const_name("numpy.ndarray[float64[3]]"));
+  PYBIND11_TYPE_CASTER(dq::Vec3<double>, const_name("numpy.ndarray"));
   bool load(handle src, bool convert) {
     if (!convert && !isinstance<array>(src)) return false;
     if (isinstance<str>(src) || !(isinstance<sequence>(src) || isinstance<array>(src))) return false;

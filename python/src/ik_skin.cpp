@@ -97,7 +97,8 @@ void bind_ik_types(py::module_& m) {
         return "IkResult(status=" + py::str(py::cast(r.status)).cast<std::string>() + ", iterations=" + std::to_string(r.iterations) +
                ", position_error=" + std::to_string(r.position_error) + ")";
       });
-  // One solver owns a workspace: use one per thread (the model may be shared).
+  // A solver owns a workspace: solve() keeps the GIL, so one solver is safe from several threads
+  // (one at a time); solvers of their own let threads solve in turn without sharing anything.
   py::class_<dq::IkSolver>(m, "IkSolver", "Damped least squares / Newton / Gauss-Seidel IK over dual quaternions.")
       .def(py::init<const dq::KinematicModel&, const dq::IkOptions&>(), py::arg("model"), py::arg("options") = dq::IkOptions{},
            py::keep_alive<1, 2>())
@@ -109,7 +110,7 @@ void bind_ik_types(py::module_& m) {
           const auto a = as_float64(rest, {static_cast<py::ssize_t>(n)}, "rest");
           r.assign(a.data(), a.data() + n);
         }
-        py::gil_scoped_release release;
+        // The GIL stays held: the solver's workspace (and q) must not be used by two threads at once.
         return s.solve(tasks, qs, r);
       }, py::arg("tasks"), py::arg("q"), py::arg("rest") = py::none(),
          "Solves in place: q (float64, shape (parameters,)) is the initial pose and receives the solution.")
@@ -225,7 +226,7 @@ void bind_skin_types(py::module_& m) {
         if (jw.size() != s.joint_count())
           throw py::value_error("joint_world: expected shape (" + std::to_string(s.joint_count()) + ", 8), one per joint");
         dq::SkinnedFrame frame = s.make_frame();
-        py::gil_scoped_release release;
+        // The GIL stays held: skin() updates the scene skin's palettes, shared by every caller.
         dq::SkinningThreads threads(1);
         check(s.skin(jw, method, threads, frame));
         return frame;
