@@ -49,3 +49,11 @@ def test_skin_model_writes_obj_frames(tmp_path):
     assert all(len(v) == len(scene.meshes[0].positions) for v in vertices)
     # The first frame is the start of the animation; the middle ones are bent (simple_skin swings its top half).
     assert not np.allclose(vertices[1], vertices[0], atol=1e-3)
+
+
+def test_readme_python_example_runs():
+    readme = (EXAMPLES.parents[1] / "README.md").read_text()
+    code = readme.split("```python\n", 1)[1].split("```", 1)[0]
+    scope = {}
+    exec(code.replace('"01_01.bvh"', repr(str(need(CMU_BVH)))), scope)  # noqa: S102  (the README's own code)
+    assert scope["world"].shape == (2752, 38, 8) and scope["path"].shape == (2752, 3) and scope["mid"].shape == (38, 8)
