@@ -57,6 +57,17 @@ int run_headless(const Options& o, const std::function<std::vector<demo::View>(i
 #if defined(DQKIT_DEMO_WINDOW)
 int run_window(const Options& o, const char* title,
                const std::function<std::vector<demo::View>(const Input&, render::Renderer&)>& frame) {
+  // The image comes from the headless renderer (EGL); the window's context (GLX) only shows it.
+  // A thread has one current context across both APIs: the window's is released while the
+  // renderer draws.
+  render::RenderOptions ro;
+  ro.width = o.width;
+  ro.height = o.height;
+  auto renderer = render::Renderer::create(ro);
+  if (!renderer) {
+    std::cerr << "error: no renderer: " << renderer.error().message << "\n";
+    return 1;
+  }
   if (!glfwInit()) {
     std::cerr << "error: no display for a window (GLFW could not initialize); use --headless\n";
     return 1;
@@ -64,6 +75,7 @@ int run_window(const Options& o, const char* title,
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_CONTEXT_CREATION_API, GLFW_EGL_CONTEXT_API);  // as the renderer: one API switching contexts
   GLFWwindow* window = glfwCreateWindow(o.width, o.height, title, nullptr, nullptr);
   if (!window) {
     std::cerr << "error: could not open an OpenGL 3.3 window\n";
@@ -84,15 +96,6 @@ int run_window(const Options& o, const char* title,
     if (action == GLFW_PRESS && !ImGui::GetIO().WantCaptureKeyboard) static_cast<Input*>(glfwGetWindowUserPointer(w))->keys.push_back(key);
   });
 
-  render::RenderOptions ro;
-  ro.width = o.width;
-  ro.height = o.height;
-  auto renderer = render::Renderer::create(ro);
-  if (!renderer) {
-    std::cerr << "error: no renderer: " << renderer.error().message << "\n";
-    return 1;
-  }
-  glfwMakeContextCurrent(window);
   GLuint texture = 0;
   glGenTextures(1, &texture);
   render::Image image;
@@ -126,6 +129,7 @@ int run_window(const Options& o, const char* title,
 
     const std::vector<demo::View> views = frame(input, *renderer);
     input.keys.clear();
+    glfwMakeContextCurrent(nullptr);
     renderer->clear();
     for (const demo::View& v : views) renderer->draw(v.scene, v.camera, v.viewport);
     image = renderer->read();

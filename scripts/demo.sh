@@ -30,3 +30,16 @@ echo
 echo "== A skinned glTF model and an animated DirectX model, through the importer"
 "$tool" info /usr/share/assimp/models/glTF2/simple_skin/simple_skin.gltf | head -6
 "$tool" info /usr/share/assimp/models/X/BCN_Epileptic.X | head -6
+
+echo
+echo "== The seeds' demos, headless (docs/demos.md): the slider puzzle scrambled and solved, the"
+echo "   thesis' four viewports, the biped following a target by IK"
+cmake --build build/release -j "$(nproc)" --target dqkit_puzzle dqkit_viewports dqkit_biped
+demos=build/demo-frames
+rm -rf "$demos"
+mkdir -p "$demos"
+build/release/apps/dqkit-puzzle --headless --frames 12 --out "$demos/puzzle" --seed 3 --scramble 10 --solve \
+  --export-x3d "$demos/puzzle_solved.x3d"
+build/release/apps/dqkit-viewports --headless --frames 8 --out "$demos/viewports"
+build/release/apps/dqkit-biped --headless --frames 8 --out "$demos/biped"
+echo "The frames are PNG files in $(pwd)/$demos/{puzzle,viewports,biped}/frame_0000.png ..."
