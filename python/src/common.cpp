@@ -13,7 +13,10 @@ bool is_fixed(const char* d) { return d[0] >= '0' && d[0] <= '9'; }
 
 std::string shape_text(const std::vector<const char*>& dims) {
   std::string s = "(";
-  for (std::size_t i = 0; i < dims.size(); ++i) s += (i ? ", " : "") + std::string(dims[i]);
+  for (std::size_t i = 0; i < dims.size(); ++i) {
+    if (i) s += ", ";
+    s += dims[i];
+  }
   return s + (dims.size() == 1 ? ",)" : ")");
 }
 
@@ -59,6 +62,9 @@ BatchInput batch_input(py::handle obj, const std::vector<const char*>& dims, Dty
                           " does not match the other inputs' " + (dtype == Dtype::f32 ? "float32" : "float64"));
   py::array c = dtype == Dtype::f32 ? py::array(py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a))
                                     : py::array(py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a));
+  // Rows are read as dq::DualQuaternion<T> etc.: an unaligned buffer (np.frombuffer at an odd
+  // offset) is copied into an aligned one first.
+  if (!(py::detail::array_proxy(c.ptr())->flags & py::detail::npy_api::NPY_ARRAY_ALIGNED_)) c = c.attr("copy")();
   const std::size_t want = dims.size();
   const bool full = static_cast<std::size_t>(c.ndim()) == want;
   const bool short_form = optional_leading && static_cast<std::size_t>(c.ndim()) + 1 == want;
@@ -89,7 +95,7 @@ py::array_t<double> dual_quaternions_to_numpy(std::span<const dq::DualQuaternion
 std::vector<dq::DualQuaternion<double>> dual_quaternions_from_numpy(py::handle obj, const char* name) {
   const auto a = as_float64(obj, {-1, 8}, name);
   std::vector<dq::DualQuaternion<double>> out(static_cast<std::size_t>(a.shape(0)));
-  std::memcpy(out.data(), a.data(), out.size() * sizeof(dq::DualQuaternion<double>));
+  std::memcpy(static_cast<void*>(out.data()), a.data(), out.size() * sizeof(dq::DualQuaternion<double>));
   return out;
 }
 

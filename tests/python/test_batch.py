@@ -4,6 +4,8 @@ import threading
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
+from hypothesis.extra.numpy import arrays
 from scipy.spatial.transform import Rotation
 
 import dqkit
@@ -184,3 +186,28 @@ def test_normalized_and_conjugate(rng):
     scaled = a * rng.uniform(0.5, 2, size=(10, 1))
     np.testing.assert_array_equal(dqkit.normalized(scaled), [np.asarray(dqkit.DualQuaternion(x).normalized()) for x in scaled])
     np.testing.assert_array_equal(dqkit.conjugate(a), [np.asarray(dqkit.DualQuaternion(x).conjugate()) for x in a])
+
+
+def test_unaligned_buffers_are_read_correctly(rng):
+    a, _, _ = random_rigid(rng, 5)
+    raw = bytearray(a.nbytes + 1)
+    unaligned = np.frombuffer(raw, dtype=np.float64, count=a.size, offset=1).reshape(5, 8)
+    assert not unaligned.flags.aligned
+    unaligned[...] = a
+    np.testing.assert_array_equal(dqkit.to_mat4(unaligned), dqkit.to_mat4(a))
+
+
+@settings(max_examples=100, deadline=None)
+@given(arrays(np.float64, (6, 4), elements=st.floats(-1, 1)).filter(lambda r: (np.linalg.norm(r, axis=1) > 0.1).all()),
+       arrays(np.float64, (6, 3), elements=st.floats(-5, 5)), arrays(np.float64, (6, 3), elements=st.floats(-5, 5)))
+def test_property_batch_compose_then_transform(r, t, p):
+    r = r / np.linalg.norm(r, axis=1, keepdims=True)
+    q = dqkit.from_rotation_translation(r, t)
+    ab = dqkit.compose(q, q[::-1])
+    # (a b) p = a (b p), and the matrices agree with the dual quaternions.
+    scale = 1 + 2 * np.abs(t).max() + np.abs(p).max()
+    np.testing.assert_allclose(dqkit.transform_points(ab, p), dqkit.transform_points(q, dqkit.transform_points(q[::-1], p)),
+                               atol=256 * EPS64 * scale)
+    m = dqkit.to_mat4(ab)
+    np.testing.assert_allclose(np.einsum("nij,nj->ni", m[:, :3, :3], p) + m[:, :3, 3], dqkit.transform_points(ab, p),
+                               atol=256 * EPS64 * scale)
