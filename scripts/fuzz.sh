@@ -29,7 +29,10 @@ run_one() {
   # malformed files. The importer targets therefore run in libFuzzer's fork mode, which goes on
   # after such a crash; afterwards every crashing input must (a) not crash inside dqkit's own code
   # and (b) give a clean error through dqkit's isolated importer (the CLI), never a crash.
-  local extra=(-rss_limit_mb=2048)
+  # Memory limits: dqkit's own targets must stay within 1 GB resident and 256 MB per allocation
+  # (a declared count trusted for allocation, or output built in memory, is found as an
+  # out-of-memory crash).
+  local extra=(-rss_limit_mb=1024 -malloc_limit_mb=256)
   [[ $name == import_* ]] && extra=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 -rss_limit_mb=4096 -detect_leaks=0)
   # (Fork mode exits non-zero after ignored crashes: for the importers the checks below decide.)
   # A fixed seed makes a CI run reproducible: the same inputs are tried, in the same order.

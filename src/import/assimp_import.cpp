@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "dq/io/utf8.hpp"
 #include "import_internal.hpp"
 
 namespace dq {
@@ -135,9 +136,17 @@ class SceneBuilder {
       r.translation = r.translation * parent_scale;  // push the ancestors' scale into the translation
       accumulated_scale_.push_back(parent_scale * r.scale);
       rest_.push_back(r);
-      std::string name = n->mName.length ? n->mName.C_Str() : "node" + std::to_string(index);
-      if (by_name_.count(name)) name += "#" + std::to_string(index);  // keep names unique
-      by_name_.emplace(name, static_cast<std::size_t>(index));
+      // Names as a user can trust them: UTF-8, present, unique; every change is a warning.
+      const std::string given = n->mName.C_Str();
+      std::string name = given.empty() ? "node" + std::to_string(index) : to_valid_utf8(given);
+      if (taken_.count(name)) name += "#" + std::to_string(index);
+      taken_.insert(name);
+      if (given.empty()) {
+        warn("a node without a name is called '" + name + "'");
+      } else if (name != given) {
+        warn("node '" + name + "' renamed (its name was taken or not UTF-8)");
+      }
+      by_name_.emplace(given.empty() ? name : given, static_cast<std::size_t>(index));  // bones and channels use the file's names
       raw_.add(name, p, DualQuaternion<double>::from_rotation_translation(r.rotation, r.translation));
       for (unsigned c = n->mNumChildren; c-- > 0;) stack.emplace_back(n->mChildren[c], index);
     }
@@ -291,7 +300,8 @@ class SceneBuilder {
   std::vector<const aiNode*> nodes_;
   std::vector<Rigid> rest_;
   std::vector<double> accumulated_scale_;
-  std::unordered_map<std::string, std::size_t> by_name_;
+  std::unordered_map<std::string, std::size_t> by_name_;  // the file's name → the first node of that name
+  std::unordered_set<std::string> taken_;                   // the joint names given
   std::vector<std::uint32_t> runtime_of_;
   double resampled_bytes_ = 0;
   std::unordered_set<std::string> skipped_;  // lights and cameras left out

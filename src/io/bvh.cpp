@@ -1,5 +1,7 @@
 #include "dq/io/bvh.hpp"
 
+#include "dq/io/utf8.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -97,30 +99,6 @@ std::string quoted(std::string_view s) {
   return out + "'";
 }
 
-/// Well-formed UTF-8 (no overlong forms, no surrogates, at most U+10FFFF).
-bool valid_utf8(std::string_view s) {
-  std::size_t i = 0;
-  while (i < s.size()) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    std::size_t n = 0;
-    char32_t cp = 0;
-    if (c < 0x80) { ++i; continue; }
-    if (c >= 0xC2 && c <= 0xDF) { n = 1; cp = c & 0x1F; }
-    else if (c >= 0xE0 && c <= 0xEF) { n = 2; cp = c & 0x0F; }
-    else if (c >= 0xF0 && c <= 0xF4) { n = 3; cp = c & 0x07; }
-    else return false;
-    for (std::size_t k = 1; k <= n; ++k) {
-      if (i + k >= s.size()) return false;
-      const auto d = static_cast<unsigned char>(s[i + k]);
-      if ((d & 0xC0) != 0x80) return false;
-      cp = (cp << 6) | (d & 0x3F);
-    }
-    if ((n == 2 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) || (n == 3 && (cp < 0x10000 || cp > 0x10FFFF))) return false;
-    i += n + 1;
-  }
-  return true;
-}
-
 std::optional<double> parse_double(std::string_view s) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
   double v = 0;
@@ -207,7 +185,7 @@ class Parser {
         return fail_line(keyword.line, "a joint name longer than " + std::to_string(BvhLimits::max_name_bytes) + " bytes");
     }
     if (name.empty()) return fail_line(keyword.line, "expected a joint name after '" + std::string(keyword.text) + "'");
-    if (!valid_utf8(name)) return fail_line(keyword.line, "a joint name must be UTF-8 text");
+    if (!is_valid_utf8(name)) return fail_line(keyword.line, "a joint name must be UTF-8 text");
     // Braces delimit blocks: a name containing one could not be written back unambiguously.
     if (name.find_first_of("{}") != std::string::npos)
       return fail_line(keyword.line, "a joint name may not contain '{' or '}'");
@@ -597,7 +575,7 @@ Expected<BvhFile> to_bvh(const Skeleton& skeleton, const Animation& given, Euler
     std::string& name = names[j];
     name = skeleton.names()[j];
     if (name.size() > BvhLimits::max_name_bytes - 16) name.resize(BvhLimits::max_name_bytes - 16);  // room for a suffix
-    const bool utf8 = valid_utf8(name);
+    const bool utf8 = is_valid_utf8(name);
     std::replace_if(name.begin(), name.end(), [utf8](unsigned char c) { return std::isspace(c) || c == '{' || c == '}' || c < 0x20 || (!utf8 && c >= 0x80); }, '_');
   }
   for (std::size_t j = 0; j < n; ++j)
@@ -608,6 +586,7 @@ Expected<BvhFile> to_bvh(const Skeleton& skeleton, const Animation& given, Euler
     for (std::size_t k = 2; taken.count(candidate); ++k) candidate = names[j] + "_" + std::to_string(k);
     taken.insert(candidate);
     names[j] = std::move(candidate);
+    out.warnings.push_back("joint '" + skeleton.names()[j] + "' is written as '" + names[j] + "' (BVH names have no whitespace or braces)");
   }
   const auto axes = euler_axes(order);
   std::vector<bool> moves(n, false);

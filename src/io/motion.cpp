@@ -1,6 +1,7 @@
 #include "dq/io/motion.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,9 +19,9 @@ std::size_t resampled_frame_count(double seconds, double rate) {
 bool is_bvh_file(const std::filesystem::path& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
   if (fd < 0) return false;
-  std::error_code ec;
+  struct stat st {};
   char head[256];
-  const ssize_t n = std::filesystem::is_regular_file(path, ec) ? ::read(fd, head, sizeof head) : -1;
+  const ssize_t n = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) ? ::read(fd, head, sizeof head) : -1;
   ::close(fd);
   return n > 0 && looks_like_bvh(std::string_view(head, static_cast<std::size_t>(n)));
 }

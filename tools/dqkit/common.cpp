@@ -1,5 +1,7 @@
 #include "common.hpp"
 
+#include "dq/io/utf8.hpp"
+
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -48,6 +50,8 @@ void add_input_options(CLI::App& c, InputOptions& o, const std::string& file_nam
       ->check(finite_in(0, 1000));
   c.add_option("--import-timeout", o.import_timeout, "Seconds before the importer (a separate process) is abandoned")
       ->check(finite_in(0, 86400));
+  c.add_option("--memory-limit", o.memory_limit_mb, "MB the animation may take (frames x joints x 64 bytes; default 4096)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
 }
 
 bool is_stdout(const std::string& path) { return path.empty() || path == "-"; }
@@ -73,6 +77,7 @@ Motion load(const InputOptions& o) {
   options.animation = o.animation;
   options.import_timeout = o.import_timeout;
   options.sample_rate = o.rate;
+  options.memory_limit_mb = o.memory_limit_mb;
   Expected<Motion> m = [&]() -> Expected<Motion> {
     if (o.file == "-") {
       const std::string text = read_stdin();
@@ -172,23 +177,9 @@ void append_json_string(std::string& out, std::string_view s) {
       ++i;
       continue;
     }
-    // A well-formed multi-byte sequence is copied; anything else becomes U+FFFD.
-    const std::size_t n = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c <= 0xDF ? 2 : 0;
-    bool ok = n > 0 && i + n <= s.size();
-    char32_t cp = n == 2 ? c & 0x1F : n == 3 ? c & 0x0F : c & 0x07;
-    for (std::size_t k = 1; ok && k < n; ++k) {
-      const auto d = static_cast<unsigned char>(s[i + k]);
-      ok = (d & 0xC0) == 0x80;
-      cp = (cp << 6) | (d & 0x3F);
-    }
-    ok = ok && !(n == 3 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) && !(n == 4 && (cp < 0x10000 || cp > 0x10FFFF));
-    if (ok) {
-      out.append(s.substr(i, n));
-      i += n;
-    } else {
-      out += "\xEF\xBF\xBD";
-      ++i;
-    }
+    const std::size_t n = utf8_sequence_length(s, i);  // a well-formed sequence is copied, a stray byte is U+FFFD
+    out += n ? s.substr(i, n) : std::string_view("\xEF\xBF\xBD");
+    i += n ? n : 1;
   }
   out += '"';
 }

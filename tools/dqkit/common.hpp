@@ -32,8 +32,9 @@ struct InputOptions {
   std::size_t animation = 0;
   double rate = 0;  ///< 0: the file's own (BVH) or 30 Hz (imported)
   double import_timeout = 120;
+  std::size_t memory_limit_mb = 4096;  ///< MotionOptions::memory_limit_mb
 };
-/// Adds `file`, --animation, --rate and --import-timeout to a command.
+/// Adds `file`, --animation, --rate, --import-timeout and --memory-limit to a command.
 void add_input_options(CLI::App& command, InputOptions& options, const std::string& file_name = "file");
 /// Loads the input (warnings printed); throws Failure.
 Motion load(const InputOptions& options);

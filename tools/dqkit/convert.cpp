@@ -48,6 +48,7 @@ int run_convert(const ConvertArgs& args) {
   Expected<BvhFile> bvh = keep_channels ? (order ? with_rotation_order(*m.bvh, *order) : Expected<BvhFile>(*m.bvh))
                                         : to_bvh(m.skeleton, m.animation, order.value_or(EulerOrder::ZXY));
   if (!bvh) throw Failure(bvh.error().message);
+  if (!keep_channels) print_warnings(bvh->warnings);
   if (!keep_channels && m.animation.frame_count == 0)
     print_warnings({args.input.file + ": no animation; its rest pose is written as the one frame (BVH offsets hold no rotations)"});
   scale_lengths(*bvh, args.scale);

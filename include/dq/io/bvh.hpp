@@ -89,7 +89,7 @@ DualQuaternion<double> bvh_rest_transform(const BvhFile& bvh, std::size_t joint)
 /// channels in `order` (degrees), the roots and every joint whose translation moves also get
 /// position channels; OFFSET is the rest translation. Names have whitespace replaced by '_'.
 /// End Sites (skeleton joints marked so) become End Site blocks; names changed by the replacement
-/// are made unique again (suffix "_2", ...). A skeleton without animation is written with one
+/// are made unique again (suffix "_2", ...), each with a warning in BvhFile::warnings. A skeleton without animation is written with one
 /// frame, its rest pose (OFFSET alone cannot hold rest rotations). Proper Euler orders are errors.
 Expected<BvhFile> to_bvh(const Skeleton& skeleton, const Animation& animation, EulerOrder order = EulerOrder::ZXY);
 
