@@ -32,7 +32,7 @@ using V = dq::Vec3<T>;
 /// A matrix as NumPy stores it: row-major, [row, column].
 template <class T, int R, int C>
 struct RowMajor {
-  T v[R * C];
+  T v[static_cast<std::size_t>(R * C)];
 };
 template <class T, int R, int C>
 RowMajor<T, R, C> row_major(const dq::Mat<T, R, C>& m) {
@@ -117,22 +117,23 @@ void bind_conversions(py::module_& m) {
     return map1<V, Q>(angles, "angles", p_shape, {4}, [&](const auto& x) { return dq::from_euler(order, frame, x.x, x.y, x.z); });
   }, py::arg("order"), py::arg("frame"), py::arg("angles"), "(N, 4) rotations of (N, 3) Euler triples (a, b, c).");
   m.def("to_euler", [](py::array q, dq::EulerOrder order, dq::EulerFrame frame) {
-    py::array singular;
-    py::array angles = map1<Q, V>(q, "q", q_shape, {3}, [&](const auto& x) {
-      const auto e = dq::to_euler(x, order, frame);
-      return V<std::remove_cvref_t<decltype(x.w)>>{e.angles.a, e.angles.b, e.angles.c};
+    return with_dtype(call_dtype(q, "q"), [&]<class T>() -> py::tuple {
+      const BatchInput in = batch_input(q, q_shape, dtype_of_v<T>, "q", true);
+      py::array_t<T> angles(out_shape(in.single, in.count, {3}));
+      py::array_t<bool> singular(out_shape(in.single, in.count, {}));
+      const Q<T>* x = as_values<Q<T>>(data_of<T>(in));
+      T* a = angles.mutable_data();
+      bool* flags = singular.mutable_data();
+      {
+        py::gil_scoped_release release;
+        for (std::size_t i = 0; i < in.count; ++i) {
+          const dq::EulerExtraction<T> e = dq::to_euler(x[i], order, frame);
+          a[3 * i] = e.angles.a, a[3 * i + 1] = e.angles.b, a[3 * i + 2] = e.angles.c;
+          flags[i] = e.singular;
+        }
+      }
+      return py::make_tuple(angles, singular);
     });
-    // The flags, in a second pass (cheap next to the extraction, and keeps map1 single-output).
-    const Dtype d = call_dtype(q, "q");
-    singular = py::array_t<bool>(angles.ndim() == 1 ? std::vector<py::ssize_t>{} : std::vector<py::ssize_t>{angles.shape(0)});
-    auto* flags = static_cast<bool*>(singular.mutable_data());
-    with_dtype(d, [&]<class T>() {
-      const BatchInput in = batch_input(q, q_shape, d, "q", true);
-      const Q<T>* qs = as_values<Q<T>>(data_of<T>(in));
-      py::gil_scoped_release release;
-      for (std::size_t i = 0; i < in.count; ++i) flags[i] = dq::to_euler(qs[i], order, frame).singular;
-    });
-    return py::make_tuple(angles, singular);
   }, py::arg("q"), py::arg("order"), py::arg("frame"),
      "Euler triples (N, 3) and gimbal-lock flags (N,) of (N, 4) unit quaternions.");
 }
