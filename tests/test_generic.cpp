@@ -131,6 +131,18 @@ DualQuaternion<S> transform(int which) {
   return DualQuaternion<S>::from_rotation_translation(rotation<S>(which), which == 1 ? vec<S>(0, 0, 0) : vec<S>(1.5, -0.75, 2.25));
 }
 const char* const kWhere[] = {"generic", "identity", "near pi"};
+
+/// The paths of the checks: q(x) = base · exp(x η) through the rotations around a base, and
+/// Q(x) = base · exp(x ξ) through the rigid transforms around one, ξ a generic screw.
+template <class X>
+Quaternion<X> rotation_path(int which, X x) {
+  return rotation<X>(which) * exp(Quaternion<X>::pure(vec<X>(0.5, 0.25, -0.75) * x));
+}
+template <class X>
+DualQuaternion<X> transform_path(int which, X x) {
+  const DualQuaternion<X> xi{Quaternion<X>::pure(vec<X>(0.5, 0.25, -0.75)), Quaternion<X>::pure(vec<X>(1.25, -0.5, 0.75))};
+  return transform<X>(which) * exp(xi * x);
+}
 // The path parameter: a generic value, or 0 at the identity (the limit itself) and near π (so
 // that the path stays on one side of the half turn).
 LD start(int which) { return which == 0 ? 0.3125L : 0.0L; }
@@ -172,11 +184,7 @@ TYPED_TEST(Generic, QuaternionExpLogAndRotationVectors) {
   for (int which = 0; which < 3; ++which) {
     const std::string where = kWhere[which];
     const LD x0 = start(which);
-    // A path through the rotations around the base: q(x) = base · exp(x η).
-    auto q_of = [which](auto x) {
-      using X = decltype(x);
-      return rotation<X>(which) * exp(Quaternion<X>::pure(vec<X>(0.5, 0.25, -0.75) * x));
-    };
+    auto q_of = [which](auto x) { return rotation_path(which, x); };
     check<S>("log " + where, x0, [&](auto x) { return parts(log(q_of(x))); }, which == 2 ? 4 : 1);
     check<S>("to_rotation_vector " + where, x0, [&](auto x) { return parts(q_of(x).to_rotation_vector()); }, which == 2 ? 4 : 1);
     check<S>("from_rotation_vector " + where, x0, [&](auto x) {
@@ -227,12 +235,7 @@ TYPED_TEST(Generic, DualQuaternionScrewCalculus) {
   for (int which = 0; which < 3; ++which) {
     const std::string where = kWhere[which];
     const LD x0 = start(which);
-    // Q(x) = base · exp(x ξ) with ξ a generic screw.
-    auto q_of = [which](auto x) {
-      using X = decltype(x);
-      const DualQuaternion<X> xi{Quaternion<X>::pure(vec<X>(0.5, 0.25, -0.75)), Quaternion<X>::pure(vec<X>(1.25, -0.5, 0.75))};
-      return transform<X>(which) * exp(xi * x);
-    };
+    auto q_of = [which](auto x) { return transform_path(which, x); };
     const double cond = which == 2 ? 64 : 4;  // near a half turn the dual part of log grows like 1/sinc
     check<S>("log " + where, x0, [&](auto x) { return parts(log(q_of(x))); }, cond);
     check<S>("exp " + where, x0, [&](auto x) {
@@ -290,15 +293,8 @@ TYPED_TEST(Generic, ConversionsAndBlends) {
   for (int which = 0; which < 3; ++which) {
     const std::string where = kWhere[which];
     const LD x0 = start(which);
-    auto q_of = [which](auto x) {
-      using X = decltype(x);
-      return rotation<X>(which) * exp(Quaternion<X>::pure(vec<X>(0.5, 0.25, -0.75) * x));
-    };
-    auto dq_of = [which](auto x) {
-      using X = decltype(x);
-      const DualQuaternion<X> xi{Quaternion<X>::pure(vec<X>(0.5, 0.25, -0.75)), Quaternion<X>::pure(vec<X>(1.25, -0.5, 0.75))};
-      return transform<X>(which) * exp(xi * x);
-    };
+    auto q_of = [which](auto x) { return rotation_path(which, x); };
+    auto dq_of = [which](auto x) { return transform_path(which, x); };
     check<S>("matrix round trip " + where, x0, [&](auto x) {
       const auto m = q_of(x).to_matrix();
       const auto q = std::remove_cvref_t<decltype(q_of(x))>::from_matrix(m);
