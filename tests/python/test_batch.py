@@ -1,6 +1,7 @@
 """Batch functions: against the scalar API (the same C++ formulas, so float64 results are equal
 bit for bit), against NumPy formulas, float32 against float64, shapes, errors and threads."""
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -163,22 +164,31 @@ def test_batch_from_several_threads(rng):
 
 
 def test_long_batches_release_the_gil(rng):
-    a, _, _ = random_rigid(rng, 400000)
-    started = threading.Event()
+    a, _, _ = random_rigid(rng, 500_000)
+    b = a[::-1].copy()
+    ready, go, duration = threading.Event(), threading.Event(), []
 
     def work():
-        started.set()
-        for _ in range(3):
-            dqkit.sclerp(a, a[::-1], 0.5)
+        ready.set()
+        go.wait()
+        t0 = time.perf_counter()
+        dqkit.sclerp(a, b, 0.5)
+        duration.append(time.perf_counter() - t0)
 
     t = threading.Thread(target=work)
     t.start()
-    started.wait()
-    count = 0
-    while t.is_alive():  # runs only while the worker's C++ loop does not hold the GIL
-        count += 1
+    ready.wait()
+    # The main thread keeps running while the batch runs: holding the GIL would stop it for the
+    # whole call, a gap as long as the call itself.
+    last, gap = time.perf_counter(), 0.0
+    go.set()
+    while True:
+        now = time.perf_counter()
+        gap, last = max(gap, now - last), now
+        if not t.is_alive():
+            break
     t.join()
-    assert count > 10000, f"the main thread ran {count} iterations during the batch: the GIL was held"
+    assert gap < 0.5 * duration[0], f"the main thread stopped for {gap:.3f} s of a {duration[0]:.3f} s batch: the GIL was held"
 
 
 def test_normalized_and_conjugate(rng):
