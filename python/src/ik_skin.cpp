@@ -123,6 +123,38 @@ void bind_ik_types(py::module_& m) {
       .def_property_readonly("model", &dq::IkSolver::model, py::return_value_policy::reference_internal);
 }
 
+void bind_motion_capture(py::module_& m) {
+  py::class_<dq::BvhKinematics>(m, "BvhKinematics", "The channel model of a BVH file: a KinematicModel and each parameter's channel.")
+      .def_readonly("model", &dq::BvhKinematics::model)
+      .def_readonly("channel_of", &dq::BvhKinematics::channel_of)
+      .def("to_parameters", [](const dq::BvhKinematics& k, py::handle frame) {
+        const auto f = as_float64(frame, {-1}, "frame");
+        py::array_t<double> q(static_cast<py::ssize_t>(k.channel_of.size()));
+        for (const std::size_t c : k.channel_of)
+          if (c >= static_cast<std::size_t>(f.shape(0))) throw py::value_error("frame: fewer values than the file's channels");
+        k.to_parameters(std::span(f.data(), static_cast<std::size_t>(f.shape(0))), std::span(q.mutable_data(), k.channel_of.size()));
+        return q;
+      }, py::arg("frame"), "A frame's channel values (degrees, as in BvhFile.motion[f]) as model parameters (radians).");
+  m.def("bvh_kinematics", [](const dq::BvhFile& b) { return unwrap(dq::bvh_kinematics(b)); }, py::arg("bvh"));
+  py::class_<dq::FixFeetOptions>(m, "FixFeetOptions")
+      .def(py::init<>())
+      .def_readwrite("feet", &dq::FixFeetOptions::feet).def_readwrite("height", &dq::FixFeetOptions::height)
+      .def_readwrite("speed", &dq::FixFeetOptions::speed)
+      .def_readwrite("min_contact_frames", &dq::FixFeetOptions::min_contact_frames)
+      .def_readwrite("merge_gap_frames", &dq::FixFeetOptions::merge_gap_frames)
+      .def_readwrite("blend_frames", &dq::FixFeetOptions::blend_frames);
+  py::class_<dq::FootContactReport>(m, "FootContactReport")
+      .def_readonly("joint", &dq::FootContactReport::joint).def_readonly("contacts", &dq::FootContactReport::contacts)
+      .def_readonly("slide_before", &dq::FootContactReport::slide_before).def_readonly("slide_after", &dq::FootContactReport::slide_after);
+  py::class_<dq::FixFeetReport>(m, "FixFeetReport")
+      .def_readonly("feet", &dq::FixFeetReport::feet).def_readonly("leg_joints", &dq::FixFeetReport::leg_joints)
+      .def_readonly("max_other_joint_motion", &dq::FixFeetReport::max_other_joint_motion)
+      .def_readonly("max_pin_error", &dq::FixFeetReport::max_pin_error)
+      .def_readonly("unconverged_frames", &dq::FixFeetReport::unconverged_frames);
+  m.def("fix_foot_sliding", [](dq::BvhFile& b, const dq::FixFeetOptions& o) { return unwrap(dq::fix_foot_sliding(b, o)); },
+        py::arg("bvh"), py::arg("options") = dq::FixFeetOptions{}, "Removes foot sliding in place (only the leg channels change).");
+}
+
 void bind_skin_types(py::module_& m) {
   py::enum_<dq::SkinningMethod>(m, "SkinningMethod", "Linear blend, dual quaternion, or centre-of-rotation skinning.")
       .value("lbs", dq::SkinningMethod::lbs).value("dqs", dq::SkinningMethod::dqs).value("cor", dq::SkinningMethod::cor);
@@ -146,11 +178,11 @@ void bind_skin_types(py::module_& m) {
       throw py::value_error("bones: expected an int array of shape (V, K), the shape of weights");
     const auto ib = as_float64(inverse_bind, {-1, 4, 4}, "inverse_bind");
     dq::RawSkin raw;
-    const auto V = static_cast<std::size_t>(p.shape(0)), K = static_cast<std::size_t>(w.shape(1));
-    for (std::size_t v = 0; v < V; ++v) {
+    const auto vertices = static_cast<std::size_t>(p.shape(0)), slots = static_cast<std::size_t>(w.shape(1));
+    for (std::size_t v = 0; v < vertices; ++v) {
       raw.positions.push_back({static_cast<float>(p.at(v, 0)), static_cast<float>(p.at(v, 1)), static_cast<float>(p.at(v, 2))});
       raw.influence_offsets.push_back(static_cast<std::uint32_t>(raw.influences.size()));
-      for (std::size_t k = 0; k < K; ++k) {
+      for (std::size_t k = 0; k < slots; ++k) {
         const double wk = w.at(v, k);
         if (wk == 0) continue;
         const auto bone = b.at(v, k);
@@ -241,7 +273,10 @@ void bind_skin_types(py::module_& m) {
 
 }  // namespace
 
-void bind_ik(py::module_& m) { bind_ik_types(m); }
+void bind_ik(py::module_& m) {
+  bind_ik_types(m);
+  bind_motion_capture(m);
+}
 void bind_skin(py::module_& m) { bind_skin_types(m); }
 
 }  // namespace dqpy

@@ -198,3 +198,23 @@ def test_installed_module_imports_from_the_prefix(tmp_path):
     out = subprocess.run([sys.executable, "-c", code, str(site), str(need(SIMPLE_SKIN))], env=env, check=True,
                          capture_output=True, text=True, cwd=tmp_path).stdout.split("\n")
     assert out[0] == "[1. 2. 3.]"
+
+
+def test_bvh_kinematics_and_fix_foot_sliding():
+    bvh = dqkit.read_bvh_file(str(need(CMU_BVH)))
+    k = dqkit.bvh_kinematics(bvh)
+    skeleton = dqkit.bvh_skeleton(bvh)
+    # The channel model reproduces the file's transforms (docs/ik.md), here for one frame.
+    f = 200
+    world = dqkit.model_transforms(k.model, k.to_parameters(bvh.motion[f]))
+    ref = dqkit.local_to_model(skeleton, dqkit.bvh_animation(bvh, skeleton).locals[f])
+    np.testing.assert_allclose(dqkit.translation(world), dqkit.translation(ref), atol=1e-9 * np.abs(dqkit.translation(ref)).max())
+    short = dqkit.read_bvh(dqkit.write_bvh(bvh).split("Frames:")[0] + "Frames: 240\nFrame Time: 0.0083333\n" +
+                           "\n".join(" ".join(f"{v:.6f}" for v in row) for row in bvh.motion[:240]) + "\n", "short.bvh")
+    before = short.motion
+    report = dqkit.fix_foot_sliding(short)
+    assert report.leg_joints and report.max_other_joint_motion == 0
+    changed = np.flatnonzero((short.motion != before).any(axis=0))
+    legs = {j.name for j in short.joints} & set(report.leg_joints)
+    leg_channels = {c for j in short.joints if j.name in legs for c in range(j.first_channel, j.first_channel + len(j.channels))}
+    assert set(changed) <= leg_channels
