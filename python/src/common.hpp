@@ -106,10 +106,6 @@ const T* data_of(const BatchInput& in) {
   return static_cast<const T*>(in.array.data());
 }
 
-template <class T>
-py::array_t<T> new_array(std::vector<py::ssize_t> shape) {
-  return py::array_t<T>(std::move(shape));
-}
 
 /// Dual quaternions stored as 8 consecutive scalars (w, x, y, z real, then dual) are exactly the
 /// memory of DualQuaternion<T> (two Quaternion<T> of four fields, w first): the batch functions

@@ -30,6 +30,13 @@ py::array_t<double> to_numpy(const std::array<double, N>& c) {
   return py::array_t<double>(static_cast<py::ssize_t>(N), c.data());
 }
 
+/// np.asarray(x) and np.asarray(x, dtype): the components, float64 unless a dtype is asked for.
+template <class X>
+py::object as_array(const X& x, py::object dtype) {
+  py::array a = to_numpy(components(x));
+  return dtype.is_none() ? py::object(a) : a.attr("astype")(dtype);
+}
+
 /// repr: the type name and the components, round-trippable (17 digits).
 template <class... X>
 std::string repr_of(const char* name, const X&... values) {
@@ -137,9 +144,7 @@ void bind_quaternion(py::module_& m) {
            py::arg("other"), py::arg("tolerance"), py::arg("policy") = dq::SignPolicy::exact,
            "Every component within `tolerance` (absolute); with SignPolicy.same_rotation, −other counts too.")
       .def("to_numpy", [](const Q& q) { return to_numpy(components(q)); }, "float64 array (w, x, y, z).")
-      .def("__array__", [](const Q& q, py::object dtype) {
-             return dtype.is_none() ? py::object(to_numpy(components(q))) : to_numpy(components(q)).attr("astype")(dtype);
-           }, py::arg("dtype") = py::none())
+      .def("__array__", &as_array<Q>, py::arg("dtype") = py::none())
       .def("__iter__", [](const Q& q) { return py::iter(py::make_tuple(q.w, q.x, q.y, q.z)); })
       .def("__repr__", [](const Q& q) { return repr_of("Quaternion", q.w, q.x, q.y, q.z); })
       .def(py::pickle([](const Q& q) { return py::make_tuple(q.w, q.x, q.y, q.z); }, [](py::tuple t) { return quaternion_from(t); }));
@@ -207,9 +212,7 @@ void bind_dual_quaternion(py::module_& m) {
            py::arg("other"), py::arg("tolerance"), py::arg("policy") = dq::SignPolicy::exact,
            "All eight components within `tolerance` (absolute); with SignPolicy.same_rotation, −other counts too.")
       .def("to_numpy", [](const DQ& q) { return to_numpy(components(q)); }, "float64 array (w, x, y, z real, then dual).")
-      .def("__array__", [](const DQ& q, py::object dtype) {
-             return dtype.is_none() ? py::object(to_numpy(components(q))) : to_numpy(components(q)).attr("astype")(dtype);
-           }, py::arg("dtype") = py::none())
+      .def("__array__", &as_array<DQ>, py::arg("dtype") = py::none())
       .def("__iter__", [](const DQ& q) { return py::iter(py::cast(components(q))); })
       .def("__repr__", [](const DQ& q) {
         return repr_of("DualQuaternion", q.real.w, q.real.x, q.real.y, q.real.z, q.dual.w, q.dual.x, q.dual.y, q.dual.z);
