@@ -30,11 +30,11 @@ py::array_t<double, py::array::c_style | py::array::forcecast> as_float64(py::ha
   bool ok = a.ndim() == static_cast<py::ssize_t>(shape.size());
   for (std::size_t i = 0; ok && i < shape.size(); ++i) ok = shape[i] < 0 || a.shape(static_cast<py::ssize_t>(i)) == shape[i];
   if (!ok) {
-    std::string expected = "(";
-    for (std::size_t i = 0; i < shape.size(); ++i)
-      expected += (i ? ", " : "") + (shape[i] < 0 ? std::string("N") : std::to_string(shape[i]));
-    expected += shape.size() == 1 ? ",)" : ")";
-    throw py::value_error(std::string(what) + ": expected shape " + expected + ", got " + shape_of(a));
+    std::vector<std::string> extents;
+    for (const auto e : shape) extents.push_back(e < 0 ? "N" : std::to_string(e));
+    std::vector<const char*> dims;
+    for (const auto& e : extents) dims.push_back(e.c_str());
+    throw py::value_error(std::string(what) + ": expected shape " + shape_text(dims) + ", got " + shape_of(a));
   }
   return a;
 }
