@@ -257,8 +257,10 @@ void bind_conversions(py::module_& m) {
   m.def("from_matrix", [](py::handle mat) -> py::object {
           const auto a = py::array::ensure(mat);
           if (a && a.ndim() == 3) return from_matrix_rows(a);
-          if (a && a.ndim() == 2 && a.shape(0) == 3) return py::cast(dq::from_matrix(mat_from_numpy<3, 4>(mat)));
-          return py::cast(dq::from_matrix(mat_from_numpy<4, 4>(mat)));
+          if (a && a.ndim() == 2 && a.shape(0) == 3 && a.shape(1) == 4) return py::cast(dq::from_matrix(mat_from_numpy<3, 4>(mat)));
+          if (a && a.ndim() == 2 && a.shape(0) == 4 && a.shape(1) == 4) return py::cast(dq::from_matrix(mat_from_numpy<4, 4>(mat)));
+          PyErr_Clear();
+          throw py::value_error("matrix: expected shape (4, 4), (3, 4) or (N, 4, 4)");
         },
         py::arg("matrix"),
         "The unit dual quaternion of a (4, 4) or (3, 4) rigid transform matrix; (N, 4, 4) matrices give (N, 8) dual quaternions.");

@@ -120,6 +120,7 @@ def test_non_contiguous_inputs_are_read_correctly(rng):
     (lambda: dqkit.transform_points(np.zeros((5, 8)), np.zeros((5, 4))), r"p: expected shape \(N, 3\) or \(3,\), got \(5, 4\)"),
     (lambda: dqkit.to_mat4(np.zeros((2, 3, 8))), r"q: expected shape \(N, 8\) or \(8,\), got \(2, 3, 8\)"),
     (lambda: dqkit.from_matrix(np.zeros((5, 3, 4))), r"matrix: expected shape \(N, 4, 4\)"),
+    (lambda: dqkit.from_matrix(np.zeros((2, 2))), r"matrix: expected shape \(4, 4\), \(3, 4\) or \(N, 4, 4\)"),
     (lambda: dqkit.slerp(np.zeros((5, 8)), np.zeros((5, 4)), 0.5), r"a: expected shape \(N, 4\)"),
     (lambda: dqkit.compose(np.zeros((5, 8), np.int64), np.zeros((5, 8))), "expected dtype float32 or float64, got int64"),
     (lambda: dqkit.compose(np.zeros((5, 8), np.float16), np.zeros((5, 8))), "expected dtype float32 or float64, got float16"),
