@@ -24,7 +24,6 @@ std::vector<int> parents_of(py::handle obj) {
   }
   const auto a = py::array_t<int, py::array::c_style | py::array::forcecast>::ensure(obj);
   if (!a || a.ndim() != 1) {
-    PyErr_Clear();
     throw py::value_error("parents: expected a Skeleton or a sequence of J ints, shape (J,)");
   }
   std::vector<int> p(a.data(), a.data() + a.size());

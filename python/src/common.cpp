@@ -24,7 +24,6 @@ py::array_t<double, py::array::c_style | py::array::forcecast> as_float64(py::ha
                                                                            const char* what) {
   auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
   if (!a) {
-    PyErr_Clear();
     throw py::value_error(std::string(what) + ": expected numbers convertible to float64");
   }
   bool ok = a.ndim() == static_cast<py::ssize_t>(shape.size());
@@ -52,7 +51,6 @@ Dtype dtype_of(const py::array& a, const char* name) {
 BatchInput batch_input(py::handle obj, const std::vector<const char*>& dims, Dtype dtype, const char* name, bool optional_leading) {
   py::array a = py::array::ensure(obj);
   if (!a) {
-    PyErr_Clear();
     throw py::value_error(std::string(name) + ": expected an array of shape " + shape_text(dims));
   }
   // An ndarray keeps its dtype (float32 or float64, the same for every input of a call); lists,

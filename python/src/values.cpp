@@ -259,7 +259,6 @@ void bind_conversions(py::module_& m) {
           if (a && a.ndim() == 3) return from_matrix_rows(a);
           if (a && a.ndim() == 2 && a.shape(0) == 3 && a.shape(1) == 4) return py::cast(dq::from_matrix(mat_from_numpy<3, 4>(mat)));
           if (a && a.ndim() == 2 && a.shape(0) == 4 && a.shape(1) == 4) return py::cast(dq::from_matrix(mat_from_numpy<4, 4>(mat)));
-          PyErr_Clear();
           throw py::value_error("matrix: expected shape (4, 4), (3, 4) or (N, 4, 4)");
         },
         py::arg("matrix"),
