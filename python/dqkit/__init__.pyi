@@ -2,6 +2,7 @@
 from typing import Any, ClassVar, Dict, Iterator, List, Optional, Sequence, Tuple, overload
 
 import numpy
+import numpy.typing
 
 
 class Animation:
@@ -1178,9 +1179,9 @@ def bvh_animation(bvh: BvhFile, skeleton: Skeleton) -> Animation:
 def bvh_kinematics(bvh: BvhFile) -> BvhKinematics: ...
 def bvh_local_transform(bvh: BvhFile, joint: int, frame: int) -> DualQuaternion: ...
 def bvh_skeleton(bvh: BvhFile) -> Skeleton: ...
-def compose(a: numpy.ndarray, b: numpy.ndarray) -> numpy.ndarray:
+def compose(a: numpy.typing.ArrayLike, b: numpy.typing.ArrayLike) -> numpy.ndarray:
     """Row-wise products a[i] b[i] of (N, 8) dual quaternions (b applied first)."""
-def conjugate(q: numpy.ndarray) -> numpy.ndarray:
+def conjugate(q: numpy.typing.ArrayLike) -> numpy.ndarray:
     """Q* of each (N, 8) dual quaternion: the inverse of a unit one."""
 @overload
 def cos(x: Dual) -> Dual: ...
@@ -1197,7 +1198,7 @@ def dlb(a: DualQuaternion, b: DualQuaternion, t: float) -> DualQuaternion:
 def dlb(qs: List[DualQuaternion], weights: List[float], pivot: BlendPivot = ...) -> DualQuaternion:
     """Weighted dual quaternion linear blending."""
 @overload
-def dlb(a: numpy.ndarray, b: numpy.ndarray, t: object) -> numpy.ndarray:
+def dlb(a: numpy.typing.ArrayLike, b: numpy.typing.ArrayLike, t: object) -> numpy.ndarray:
     """Row-wise dual quaternion linear blending of (N, 8) keys; t a number or (N,)."""
 def dot(a: Quaternion, b: Quaternion) -> float:
     """Four-component dot product."""
@@ -1219,13 +1220,13 @@ def format_frame(frame: SkinnedFrame, format: MeshFormat) -> str:
 def from_euler(order: EulerOrder, frame: EulerFrame, a: float, b: float, c: float) -> Quaternion:
     """The rotation of an Euler triple."""
 @overload
-def from_euler(order: EulerOrder, frame: EulerFrame, angles: numpy.ndarray) -> numpy.ndarray:
+def from_euler(order: EulerOrder, frame: EulerFrame, angles: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 4) rotations of (N, 3) Euler triples (a, b, c)."""
 def from_matrix(matrix: object) -> object:
     """The unit dual quaternion of a (4, 4) or (3, 4) rigid transform matrix; (N, 4, 4) matrices give (N, 8) dual quaternions."""
-def from_rotation_translation(r: numpy.ndarray, t: numpy.ndarray) -> numpy.ndarray:
+def from_rotation_translation(r: numpy.typing.ArrayLike, t: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 8) transforms: rotate by r[i], then translate by t[i]."""
-def from_rotation_vector(v: numpy.ndarray) -> numpy.ndarray:
+def from_rotation_vector(v: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 4) rotations of (N, 3) rotation vectors."""
 def from_screw(screw: Screw) -> DualQuaternion: ...
 def from_vrml(transform: VrmlTransform) -> DualQuaternion: ...
@@ -1236,7 +1237,7 @@ def import_scene(path: str, options: ImportOptions = ...) -> ImportedScene:
 def interpolate(a: DualQuaternion, b: DualQuaternion, u: float, mode: Interpolation) -> DualQuaternion: ...
 def load_motion(path: str, options: MotionOptions = ...) -> Motion:
     """A BVH file's motion (other formats: import_motion)."""
-def local_to_model(skeleton: object, local: numpy.ndarray) -> numpy.ndarray:
+def local_to_model(skeleton: object, local: numpy.typing.ArrayLike) -> numpy.ndarray:
     """Forward kinematics: model[j] = model[parent(j)] · local[j] for (F, J, 8) or (J, 8) local poses; `skeleton` is a Skeleton or the (J,) parents."""
 @overload
 def log(x: Dual) -> Dual: ...
@@ -1250,7 +1251,7 @@ def log(q: DualQuaternion) -> DualQuaternion:
 def model_transforms(model: KinematicModel, q: object) -> numpy.ndarray:
     """(J, 8) world transforms of the joints for parameters q."""
 def nlerp(a: Quaternion, b: Quaternion, t: float, path: Path = ...) -> Quaternion: ...
-def normalized(q: numpy.ndarray) -> numpy.ndarray:
+def normalized(q: numpy.typing.ArrayLike) -> numpy.ndarray:
     """Each (N, 8) dual quaternion made unit (DualQuaternion.normalized)."""
 def pose_at(scene: ImportedScene, animation: int, time: float) -> numpy.ndarray:
     """(J, 8) world transforms of the scene's joints at `time` seconds."""
@@ -1258,19 +1259,19 @@ def pose_at(scene: ImportedScene, animation: int, time: float) -> numpy.ndarray:
 def pow(q: Quaternion, t: float) -> Quaternion: ...
 @overload
 def pow(q: DualQuaternion, t: float) -> DualQuaternion: ...
-def quaternion_from_matrix(matrix: numpy.ndarray) -> numpy.ndarray:
+def quaternion_from_matrix(matrix: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 4) unit quaternions of (N, 3, 3) rotation matrices (Quaternion.from_matrix)."""
-def quaternion_product(a: numpy.ndarray, b: numpy.ndarray) -> numpy.ndarray:
+def quaternion_product(a: numpy.typing.ArrayLike, b: numpy.typing.ArrayLike) -> numpy.ndarray:
     """Row-wise Hamilton products of (N, 4) quaternions."""
-def quaternion_to_matrix(q: numpy.ndarray) -> numpy.ndarray:
+def quaternion_to_matrix(q: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 3, 3) rotation matrices of (N, 4) unit quaternions (Quaternion.to_matrix)."""
 def read_bvh(text: str, source: str = ...) -> BvhFile:
     """Parses BVH text; errors name `source` and the line."""
 def read_bvh_file(path: str) -> BvhFile:
     """Reads a BVH file; raises ReadError with 'file:line: what'."""
-def rotate(q: numpy.ndarray, v: numpy.ndarray) -> numpy.ndarray:
+def rotate(q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike) -> numpy.ndarray:
     """q v q* for (N, 4) unit quaternions and (N, 3) vectors."""
-def rotation(q: numpy.ndarray) -> numpy.ndarray:
+def rotation(q: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 4) rotations (the real parts) of (N, 8) dual quaternions."""
 def sample(animation: Animation, time: float, mode: Interpolation = ..., wrap: WrapMode = ...) -> numpy.ndarray:
     """(J, 8) local transforms at `time` seconds."""
@@ -1278,7 +1279,7 @@ def sample(animation: Animation, time: float, mode: Interpolation = ..., wrap: W
 def sclerp(a: DualQuaternion, b: DualQuaternion, t: float, path: Path = ...) -> DualQuaternion:
     """Screw linear interpolation a (a⁻¹ b)^t (constant speed along the screw)."""
 @overload
-def sclerp(a: numpy.ndarray, b: numpy.ndarray, t: object, path: Path = ...) -> numpy.ndarray:
+def sclerp(a: numpy.typing.ArrayLike, b: numpy.typing.ArrayLike, t: object, path: Path = ...) -> numpy.ndarray:
     """Row-wise screw interpolation of (N, 8) unit dual quaternions; t a number or (N,)."""
 @overload
 def sin(x: Dual) -> Dual: ...
@@ -1290,7 +1291,7 @@ def skin_vertices(skin: Skin, bone_world: object, method: SkinningMethod = ...) 
 def slerp(a: Quaternion, b: Quaternion, t: float, path: Path = ...) -> Quaternion:
     """Spherical linear interpolation (constant angular speed, never fails)."""
 @overload
-def slerp(a: numpy.ndarray, b: numpy.ndarray, t: object, path: Path = ...) -> numpy.ndarray:
+def slerp(a: numpy.typing.ArrayLike, b: numpy.typing.ArrayLike, t: object, path: Path = ...) -> numpy.ndarray:
     """Row-wise slerp of (N, 4) quaternions; t a number or (N,)."""
 @overload
 def sqrt(x: Dual) -> Dual: ...
@@ -1303,7 +1304,7 @@ def to_bvh(skeleton: Skeleton, animation: Animation, order: EulerOrder = ...) ->
 def to_euler(q: Quaternion, order: EulerOrder, frame: EulerFrame) -> EulerExtraction:
     """Euler angles of a rotation; at gimbal lock the third angle is 0 and `singular` is set."""
 @overload
-def to_euler(q: numpy.ndarray, order: EulerOrder, frame: EulerFrame) -> tuple:
+def to_euler(q: numpy.typing.ArrayLike, order: EulerOrder, frame: EulerFrame) -> tuple:
     """Euler triples (N, 3) and gimbal-lock flags (N,) of (N, 4) unit quaternions."""
 def to_mat34(q: DualQuaternion) -> numpy.ndarray:
     """The top three rows of to_mat4."""
@@ -1311,18 +1312,18 @@ def to_mat34(q: DualQuaternion) -> numpy.ndarray:
 def to_mat4(q: DualQuaternion) -> numpy.ndarray:
     """The (4, 4) homogeneous matrix (column vectors)."""
 @overload
-def to_mat4(q: numpy.ndarray) -> numpy.ndarray:
+def to_mat4(q: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 4, 4) matrices [n, row, column] of (N, 8) unit dual quaternions."""
-def to_rotation_vector(q: numpy.ndarray) -> numpy.ndarray:
+def to_rotation_vector(q: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 3) rotation vectors (angle in [0, π]) of (N, 4) unit quaternions."""
 def to_screw(q: DualQuaternion) -> Screw:
     """θ in [0, π]; a pure translation has its axis through the origin."""
 def to_vrml(q: DualQuaternion, center: numpy.ndarray = ...) -> VrmlTransform: ...
-def transform_directions(q: numpy.ndarray, v: numpy.ndarray) -> numpy.ndarray:
+def transform_directions(q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike) -> numpy.ndarray:
     """R v for (N, 8) unit dual quaternions and (N, 3) directions."""
-def transform_points(q: numpy.ndarray, p: numpy.ndarray) -> numpy.ndarray:
+def transform_points(q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> numpy.ndarray:
     """R p + t for (N, 8) unit dual quaternions and (N, 3) points."""
-def translation(q: numpy.ndarray) -> numpy.ndarray:
+def translation(q: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 3) translations 2 q_d q_r* of (N, 8) unit dual quaternions."""
 def with_rotation_order(bvh: BvhFile, order: EulerOrder) -> BvhFile: ...
 def write_bvh(bvh: BvhFile) -> str:

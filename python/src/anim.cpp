@@ -93,7 +93,7 @@ void bind_skeleton(py::module_& m) {
   m.def("interpolate", [](const DQd& a, const DQd& b, double u, dq::Interpolation mode) { return dq::interpolate(a, b, u, mode); },
         py::arg("a"), py::arg("b"), py::arg("u"), py::arg("mode"));
 
-  m.def("local_to_model", [](py::handle parents_obj, py::array local) {
+  m.def("local_to_model", [](py::handle parents_obj, ArrayLike local) {
     const std::vector<int> parents = parents_of(parents_obj);
     const auto joints = std::to_string(parents.size());
     return with_dtype(call_dtype(local, "local"), [&]<class T>() -> py::array {

@@ -57,66 +57,66 @@ using RowMajor3 = RowMajor<T, 3, 3>;
 const std::vector<const char*> dq_shape{"N", "8"}, q_shape{"N", "4"}, p_shape{"N", "3"}, t_shape{"N"};
 
 void bind_products(py::module_& m) {
-  m.def("compose", [](py::array a, py::array b) {
+  m.def("compose", [](ArrayLike a, ArrayLike b) {
     return map2<DQ, DQ, DQ>(a, b, "a", "b", dq_shape, dq_shape, {8}, [](const auto& x, const auto& y) { return x * y; });
   }, py::arg("a"), py::arg("b"), "Row-wise products a[i] b[i] of (N, 8) dual quaternions (b applied first).");
-  m.def("quaternion_product", [](py::array a, py::array b) {
+  m.def("quaternion_product", [](ArrayLike a, ArrayLike b) {
     return map2<Q, Q, Q>(a, b, "a", "b", q_shape, q_shape, {4}, [](const auto& x, const auto& y) { return x * y; });
   }, py::arg("a"), py::arg("b"), "Row-wise Hamilton products of (N, 4) quaternions.");
-  m.def("transform_points", [](py::array q, py::array p) {
+  m.def("transform_points", [](ArrayLike q, ArrayLike p) {
     return map2<DQ, V, V>(q, p, "q", "p", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_point(y); });
   }, py::arg("q"), py::arg("p"), "R p + t for (N, 8) unit dual quaternions and (N, 3) points.");
-  m.def("transform_directions", [](py::array q, py::array v) {
+  m.def("transform_directions", [](ArrayLike q, ArrayLike v) {
     return map2<DQ, V, V>(q, v, "q", "v", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_direction(y); });
   }, py::arg("q"), py::arg("v"), "R v for (N, 8) unit dual quaternions and (N, 3) directions.");
-  m.def("rotate", [](py::array q, py::array v) {
+  m.def("rotate", [](ArrayLike q, ArrayLike v) {
     return map2<Q, V, V>(q, v, "q", "v", q_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.rotate(y); });
   }, py::arg("q"), py::arg("v"), "q v q* for (N, 4) unit quaternions and (N, 3) vectors.");
-  m.def("normalized", [](py::array q) {
+  m.def("normalized", [](ArrayLike q) {
     return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.normalized(); });
   }, py::arg("q"), "Each (N, 8) dual quaternion made unit (DualQuaternion.normalized).");
-  m.def("conjugate", [](py::array q) {
+  m.def("conjugate", [](ArrayLike q) {
     return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.conjugate(); });
   }, py::arg("q"), "Q* of each (N, 8) dual quaternion: the inverse of a unit one.");
 }
 
 void bind_conversions(py::module_& m) {
-  m.def("to_mat4", [](py::array q) {
+  m.def("to_mat4", [](ArrayLike q) {
     return map1<DQ, RowMajor4>(q, "q", dq_shape, {4, 4}, [](const auto& x) { return row_major(dq::to_mat4(x)); });
   }, py::arg("q"), "(N, 4, 4) matrices [n, row, column] of (N, 8) unit dual quaternions.");
-  m.def("quaternion_to_matrix", [](py::array q) {
+  m.def("quaternion_to_matrix", [](ArrayLike q) {
     return map1<Q, RowMajor3>(q, "q", q_shape, {3, 3}, [](const auto& x) { return row_major(x.to_matrix()); });
   }, py::arg("q"), "(N, 3, 3) rotation matrices of (N, 4) unit quaternions (Quaternion.to_matrix).");
-  m.def("quaternion_from_matrix", [](py::array mat) {
+  m.def("quaternion_from_matrix", [](ArrayLike mat) {
     return map1<RowMajor3, Q>(mat, "matrix", {"N", "3", "3"}, {4}, [](const auto& x) {
       using T = std::remove_cvref_t<decltype(x.v[0])>;
       return Q<T>::from_matrix(from_row_major(x));
     });
   }, py::arg("matrix"), "(N, 4) unit quaternions of (N, 3, 3) rotation matrices (Quaternion.from_matrix).");
-  m.def("from_rotation_translation", [](py::array r, py::array t) {
+  m.def("from_rotation_translation", [](ArrayLike r, ArrayLike t) {
     return map2<Q, V, DQ>(r, t, "r", "t", q_shape, p_shape, {8}, [](const auto& x, const auto& y) {
       return std::remove_cvref_t<decltype(dq::DualQuaternion(x, x))>::from_rotation_translation(x, y);
     });
   }, py::arg("r"), py::arg("t"), "(N, 8) transforms: rotate by r[i], then translate by t[i].");
-  m.def("translation", [](py::array q) {
+  m.def("translation", [](ArrayLike q) {
     return map1<DQ, V>(q, "q", dq_shape, {3}, [](const auto& x) { return x.translation(); });
   }, py::arg("q"), "(N, 3) translations 2 q_d q_r* of (N, 8) unit dual quaternions.");
-  m.def("rotation", [](py::array q) {
+  m.def("rotation", [](ArrayLike q) {
     return map1<DQ, Q>(q, "q", dq_shape, {4}, [](const auto& x) { return x.real; });
   }, py::arg("q"), "(N, 4) rotations (the real parts) of (N, 8) dual quaternions.");
-  m.def("from_rotation_vector", [](py::array v) {
+  m.def("from_rotation_vector", [](ArrayLike v) {
     return map1<V, Q>(v, "v", p_shape, {4}, [](const auto& x) {
       using T = std::remove_cvref_t<decltype(x.x)>;
       return Q<T>::from_rotation_vector(x);
     });
   }, py::arg("v"), "(N, 4) rotations of (N, 3) rotation vectors.");
-  m.def("to_rotation_vector", [](py::array q) {
+  m.def("to_rotation_vector", [](ArrayLike q) {
     return map1<Q, V>(q, "q", q_shape, {3}, [](const auto& x) { return x.to_rotation_vector(); });
   }, py::arg("q"), "(N, 3) rotation vectors (angle in [0, π]) of (N, 4) unit quaternions.");
-  m.def("from_euler", [](dq::EulerOrder order, dq::EulerFrame frame, py::array angles) {
+  m.def("from_euler", [](dq::EulerOrder order, dq::EulerFrame frame, ArrayLike angles) {
     return map1<V, Q>(angles, "angles", p_shape, {4}, [&](const auto& x) { return dq::from_euler(order, frame, x.x, x.y, x.z); });
   }, py::arg("order"), py::arg("frame"), py::arg("angles"), "(N, 4) rotations of (N, 3) Euler triples (a, b, c).");
-  m.def("to_euler", [](py::array q, dq::EulerOrder order, dq::EulerFrame frame) {
+  m.def("to_euler", [](ArrayLike q, dq::EulerOrder order, dq::EulerFrame frame) {
     return with_dtype(call_dtype(q, "q"), [&]<class T>() -> py::tuple {
       const BatchInput in = batch_input(q, q_shape, dtype_of_v<T>, "q", true);
       py::array_t<T> angles(out_shape(in.single, in.count, {3}));
@@ -139,17 +139,17 @@ void bind_conversions(py::module_& m) {
 }
 
 void bind_interpolation(py::module_& m) {
-  m.def("slerp", [](py::array a, py::array b, py::object t, dq::Path path) {
+  m.def("slerp", [](ArrayLike a, ArrayLike b, py::object t, dq::Path path) {
     return map3<Q, Q, Q>(a, b, t, "a", "b", q_shape, q_shape, {4},
                          [path](const auto& x, const auto& y, auto s) { return dq::slerp(x, y, s, path); });
   }, py::arg("a"), py::arg("b"), py::arg("t"), py::arg("path") = dq::Path::shortest,
      "Row-wise slerp of (N, 4) quaternions; t a number or (N,).");
-  m.def("sclerp", [](py::array a, py::array b, py::object t, dq::Path path) {
+  m.def("sclerp", [](ArrayLike a, ArrayLike b, py::object t, dq::Path path) {
     return map3<DQ, DQ, DQ>(a, b, t, "a", "b", dq_shape, dq_shape, {8},
                             [path](const auto& x, const auto& y, auto s) { return dq::sclerp(x, y, s, path); });
   }, py::arg("a"), py::arg("b"), py::arg("t"), py::arg("path") = dq::Path::shortest,
      "Row-wise screw interpolation of (N, 8) unit dual quaternions; t a number or (N,).");
-  m.def("dlb", [](py::array a, py::array b, py::object t) {
+  m.def("dlb", [](ArrayLike a, ArrayLike b, py::object t) {
     return map3<DQ, DQ, DQ>(a, b, t, "a", "b", dq_shape, dq_shape, {8},
                             [](const auto& x, const auto& y, auto s) { return dq::dlb(x, y, s); });
   }, py::arg("a"), py::arg("b"), py::arg("t"), "Row-wise dual quaternion linear blending of (N, 8) keys; t a number or (N,).");

@@ -24,7 +24,7 @@ inline std::vector<py::ssize_t> out_shape(bool single, std::size_t n, const std:
 
 /// out[i] = f(a[i]) over the rows of `a`, items reinterpreted as A<T> and R<T>.
 template <template <class> class A, template <class> class R, class F>
-py::array map1(const py::array& a, const char* name, const std::vector<const char*>& shape, const std::vector<py::ssize_t>& tail, F f) {
+py::array map1(py::handle a, const char* name, const std::vector<const char*>& shape, const std::vector<py::ssize_t>& tail, F f) {
   return with_dtype(call_dtype(a, name), [&]<class T>() -> py::array {
     const BatchInput in = batch_input(a, shape, dtype_of_v<T>, name, true);
     py::array_t<T> out(out_shape(in.single, in.count, tail));
@@ -38,7 +38,7 @@ py::array map1(const py::array& a, const char* name, const std::vector<const cha
 
 /// out[i] = f(a[i], b[i]); a single a or b is used for every row.
 template <template <class> class A, template <class> class B, template <class> class R, class F>
-py::array map2(const py::array& a, const py::array& b, const char* na, const char* nb, const std::vector<const char*>& sa,
+py::array map2(py::handle a, py::handle b, const char* na, const char* nb, const std::vector<const char*>& sa,
                const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f) {
   return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
     const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);
@@ -56,7 +56,7 @@ py::array map2(const py::array& a, const py::array& b, const char* na, const cha
 
 /// out[i] = f(a[i], b[i], t[i]) with t a number or an (N,) array.
 template <template <class> class A, template <class> class B, template <class> class R, class F>
-py::array map3(const py::array& a, const py::array& b, const py::object& t, const char* na, const char* nb,
+py::array map3(py::handle a, py::handle b, const py::object& t, const char* na, const char* nb,
                const std::vector<const char*>& sa, const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f) {
   return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
     const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);

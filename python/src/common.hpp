@@ -101,6 +101,14 @@ Dtype call_dtype(py::handle first, const char* name);
 BatchInput batch_input(py::handle obj, const std::vector<const char*>& dims, Dtype dtype, const char* name,
                        bool optional_leading = false);
 
+/// A batch argument: an ndarray, or (when pybind11 converts arguments, its second pass over the
+/// overloads) a list or tuple. dqkit's value types are not accepted, so a call with values picks
+/// the scalar overload of the same name (sclerp(a, b, 1) with an int t included).
+struct ArrayLike {
+  py::object value;
+  operator py::handle() const { return value; }  // NOLINT: implicit, to pass to the helpers below
+};
+
 template <class T>
 const T* data_of(const BatchInput& in) {
   return static_cast<const T*>(in.array.data());
@@ -151,5 +159,18 @@ struct type_caster<dq::Vec3<double>> {
     return true;
   }
   static handle cast(const dq::Vec3<double>& v, return_value_policy, handle) { return dqpy::vec_to_numpy(v).release(); }
+};
+}  // namespace pybind11::detail
+
+namespace pybind11::detail {
+template <>
+struct type_caster<dqpy::ArrayLike> {
+  PYBIND11_TYPE_CASTER(dqpy::ArrayLike, const_name("numpy.typing.ArrayLike"));
+  bool load(handle src, bool convert) {
+    if (!isinstance<array>(src) && !(convert && (PyList_Check(src.ptr()) || PyTuple_Check(src.ptr())))) return false;
+    value.value = reinterpret_borrow<object>(src);
+    return true;
+  }
+  static handle cast(const dqpy::ArrayLike& a, return_value_policy, handle) { return a.value.inc_ref(); }
 };
 }  // namespace pybind11::detail

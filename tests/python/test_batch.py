@@ -222,3 +222,15 @@ def test_property_batch_compose_then_transform(r, t, p):
     m = dqkit.to_mat4(ab)
     np.testing.assert_allclose(np.einsum("nij,nj->ni", m[:, :3, :3], p) + m[:, :3, 3], dqkit.transform_points(ab, p),
                                atol=256 * EPS64 * scale)
+
+
+def test_lists_take_the_call_dtype_and_values_pick_the_scalar_overload(rng):
+    q, _, _ = random_rigid(rng, 4)
+    np.testing.assert_array_equal(dqkit.transform_points(q, [1, 2, 3]), dqkit.transform_points(q, np.array([1.0, 2.0, 3.0])))
+    out = dqkit.transform_points(q.astype(np.float32), [[1, 2, 3]] * 4)
+    assert out.dtype == np.float32 and out.shape == (4, 3)
+    np.testing.assert_array_equal(dqkit.compose(q.tolist(), q.tolist()), dqkit.compose(q, q))
+    a, b = dqkit.DualQuaternion(q[0]), dqkit.DualQuaternion(q[1])
+    assert isinstance(dqkit.sclerp(a, b, 1), dqkit.DualQuaternion)  # int t: still the scalar function
+    with pytest.raises(TypeError):
+        dqkit.compose(object(), q)
