@@ -37,8 +37,13 @@ if [ -d build/release/python/dqkit ]; then
   if ! "$python" -m pip install --no-build-isolation --no-deps --target "$pip_target" . >"$pip_target.log" 2>&1; then
     cat "$pip_target.log"; exit 1
   fi
-  (cd "$pip_target" && PYTHONPATH="$pip_target" "$python" -c \
-    "import dqkit, sys; assert dqkit.__file__.startswith(sys.argv[1]); print('pip --target install imports from', sys.argv[1])" "$pip_target")
+  # Imported from there, with its own import worker (a glTF sample when assimp-testmodels has it).
+  (cd "$pip_target" && env -u DQKIT_IMPORT_WORKER PYTHONPATH="$pip_target" "$python" -c "if True:
+    import dqkit, os, sys
+    assert dqkit.__file__.startswith(sys.argv[1]) and os.environ['DQKIT_IMPORT_WORKER'].startswith(sys.argv[1])
+    model = '/usr/share/assimp/models/glTF2/simple_skin/simple_skin.gltf'
+    joints = len(dqkit.import_scene(model).skeleton) if dqkit.HAVE_IMPORT and os.path.exists(model) else 0
+    print('pip --target install imports from', sys.argv[1], '(and imported a glTF with', joints, 'joints)')" "$pip_target")
   rm -rf "$pip_target" "$pip_target.log"
 else
   echo "The Release build has no Python module (DQKIT_BUILD_PYTHON off: pybind11-dev or python3-numpy missing): failing"
