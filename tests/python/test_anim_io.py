@@ -191,10 +191,13 @@ def test_installed_module_imports_from_the_prefix(tmp_path):
     site = next(prefix.rglob("dqkit/__init__.py")).parent.parent
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "DQKIT_IMPORT_WORKER")}
     env["PYTHONPATH"] = str(site)
-    code = ("import dqkit, os, sys; assert dqkit.__file__.startswith(sys.argv[1]), dqkit.__file__; "
-            "print(dqkit.DualQuaternion.from_translation([1, 2, 3]).translation()); "
-            "w = os.environ['DQKIT_IMPORT_WORKER']; assert w.startswith(sys.argv[1]), w; "
-            "s = dqkit.import_scene(sys.argv[2]) if dqkit.HAVE_IMPORT else None; print(len(s.skeleton) if s else 0)")
+    code = """if True:
+        import dqkit, os, sys
+        assert dqkit.__file__.startswith(sys.argv[1]), dqkit.__file__
+        print(dqkit.DualQuaternion.from_translation([1, 2, 3]).translation())
+        if dqkit.HAVE_IMPORT:  # the installed package's own worker, found without configuration
+            assert os.environ["DQKIT_IMPORT_WORKER"].startswith(sys.argv[1]), os.environ["DQKIT_IMPORT_WORKER"]
+            print(len(dqkit.import_scene(sys.argv[2]).skeleton))"""
     out = subprocess.run([sys.executable, "-c", code, str(site), str(need(SIMPLE_SKIN))], env=env, check=True,
                          capture_output=True, text=True, cwd=tmp_path).stdout.split("\n")
     assert out[0] == "[1. 2. 3.]"

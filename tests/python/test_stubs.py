@@ -5,6 +5,8 @@ import pydoc
 import subprocess
 import sys
 
+import pytest
+
 import dqkit
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -12,6 +14,8 @@ STUB = ROOT / "python" / "dqkit" / "__init__.pyi"
 
 
 def test_committed_stub_is_generated_from_this_module():
+    if not dqkit.HAVE_IMPORT:
+        pytest.skip("the committed stub describes the module built with Assimp (import_scene, SceneSkin, ...)")
     env_path = str(pathlib.Path(dqkit.__file__).resolve().parents[1])
     fresh = subprocess.run([sys.executable, str(ROOT / "python" / "generate_stubs.py")], check=True, capture_output=True,
                            text=True, env={"PYTHONPATH": env_path}).stdout
