@@ -14,15 +14,16 @@ trap 'rm -f "$summary"' EXIT
 run_ctest() {  # ctest arguments...; keeps the counts for the closing line
   ctest "$@" --output-on-failure --timeout 600 | tee -a "$summary"
 }
-run_suite() {  # name, extra cmake flags...
-  local dir=build/$1; shift
+run_suite() {  # name, ctest arguments (quoted), extra cmake flags...
+  local dir=build/$1 ctest_args=$2; shift 2
   cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
   cmake --build "$dir" -j "$jobs"
-  run_ctest --test-dir "$dir" -j "$jobs"
+  # shellcheck disable=SC2086
+  run_ctest --test-dir "$dir" -j "$jobs" $ctest_args
 }
 
 echo "== Release build and tests"
-run_suite release
+run_suite release ""
 echo "== The renderer's window (GLFW) on a virtual X display (Xvfb); CTest ran the headless renderer"
 xvfb-run -a build/release/tests/test_render --gtest_filter='Render.Window*'
 echo "== Python: pytest on the module of the Release build (tests/python), then pip install from pyproject.toml"
@@ -50,13 +51,15 @@ else
   exit 1
 fi
 
-echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
-run_suite asan-ubsan -DDQKIT_SANITIZE=ON -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF
+echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests (the packaging tests build dqkit again"
+echo "   without sanitizers: they ran above; the demo programs too)"
+run_suite asan-ubsan "-LE package" -DDQKIT_SANITIZE=ON -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF -DDQKIT_BUILD_DEMOS=OFF
 
 if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo; then
-  echo "== Release build with -mavx2 -mfma: the unit tests (the packaging tests are the same as above)"
+  echo "== Release build with -mavx2 -mfma: the library's tests (the tool, the importer, the demos and the packaging"
+  echo "   tests are the same as above)"
   cmake -S . -B build/avx2 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="-mavx2 -mfma" -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF \
-    -DDQKIT_BUILD_EXAMPLES=OFF >/dev/null
+    -DDQKIT_BUILD_EXAMPLES=OFF -DDQKIT_BUILD_TOOLS=OFF -DDQKIT_WITH_ASSIMP=OFF -DDQKIT_BUILD_DEMOS=OFF >/dev/null
   cmake --build build/avx2 -j "$jobs"
   run_ctest --test-dir build/avx2 -j "$jobs" -LE package
 else
