@@ -55,7 +55,7 @@ struct Lanes {
   [[gnu::always_inline]] friend Lanes operator*(Lanes a, Lanes b) { return a.v * b.v; }
   [[gnu::always_inline]] friend Lanes operator/(Lanes a, Lanes b) { return a.v / b.v; }
   [[gnu::always_inline]] friend Lanes operator-(Lanes a) { return -a.v; }
-  /// Lane by lane: a where `condition` holds, else b.
+  /// Lane by lane: a where x < y, else b.
   [[gnu::always_inline]] friend Lanes select_less(Lanes x, Lanes y, Lanes a, Lanes b) { return x.v < y.v ? a.v : b.v; }
   [[gnu::always_inline]] friend Lanes sqrt(Lanes a) {
     vec<N> r;
