@@ -211,6 +211,13 @@ TEST(NaNPolicy, NaNInputsNeverBecomeFinite) {
   EXPECT_FALSE(has_nan(from_matrix(m)));
 }
 
+TEST(NaNPolicy, InfiniteInputsEndAndStayNonFinite) {
+  // Found by fuzz_math: an infinite real part made normalized() rescale forever.
+  const double inf = std::numeric_limits<double>::infinity();
+  const DualQuaternion<double> q = DualQuaternion<double>(inf, 1, 0, 0, 0, 0, 0, 0).normalized();
+  EXPECT_FALSE(std::isfinite(q.real.w) && std::isfinite(q.real.x) && std::isfinite(q.dual.w));
+}
+
 TEST(NaNPolicy, DivisionByZeroIsInfiniteLikeForReals) {
   const double inf = std::numeric_limits<double>::infinity();
   EXPECT_EQ(Quaternion<double>(0, 0, 0, 0).inverse(), Quaternion<double>(inf, 0, 0, 0));

@@ -125,6 +125,8 @@ struct BasicIkSolver<X>::Workspace {
     row_of.reserve(64);
     jacobian.setZero();
     spare_jacobian.setZero();
+    // Reserved first: moving an LLT that has not been computed copies its uninitialized status.
+    llt_by_rows.reserve(max_rows / 3 + 1);
     for (std::size_t k = 0; k <= max_rows / 3; ++k) llt_by_rows.emplace_back(static_cast<Eigen::Index>(3 * k));
   }
 };

@@ -139,7 +139,8 @@ struct DualQuaternion {
       return {Quaternion<T>(T(1) + z, z, z, z), Quaternion<T>(z, z, z, z)};
     }
     const real_t<T> nv = value_of(n);
-    if (nv < std::numeric_limits<real_t<T>>::min() || nv > std::numeric_limits<real_t<T>>::max() / 4) {
+    // (An infinite or NaN norm is not rescaled: non-finite in, non-finite out.)
+    if (nv < std::numeric_limits<real_t<T>>::min() || (nv > std::numeric_limits<real_t<T>>::max() / 4 && nv <= std::numeric_limits<real_t<T>>::max())) {
       // A denormal (or huge) real part: dividing by its norm loses its bits. Scale the whole
       // dual quaternion by a power of two first (exact) so that the real part is of order one.
       using std::ilogb;
