@@ -2,12 +2,21 @@
 # Builds and runs the whole test suite: a Release build; the same suite under AddressSanitizer +
 # UndefinedBehaviorSanitizer; the unit tests built with -mavx2 -mfma (where the CPU has them: the
 # results must not depend on the instruction set, docs/design.md); the threaded tests under
-# ThreadSanitizer; then every fuzz target for a bounded time (DQKIT_FUZZ_SECONDS, default 45).
-# Installs its Debian packages when missing.
+# ThreadSanitizer; then every fuzz target for a bounded time (DQKIT_FUZZ_SECONDS, default 20).
+# Installs its Debian packages when missing. Every build, including the ones nested in tests (the
+# packaging tests, pip), compiles through ccache: the same source with the same flags is compiled
+# once per run (CMake reads the launcher from the environment at each build's first configure).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/deps.sh
 jobs=$(nproc)
+export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache CCACHE_BASEDIR=$PWD
+stage_start=$SECONDS
+stage() {  # title: closes the previous stage with its time
+  echo "   (took $((SECONDS - stage_start)) s)"
+  stage_start=$SECONDS
+  echo "== $1"
+}
 
 summary=$(mktemp)
 trap 'rm -f "$summary"' EXIT
@@ -16,7 +25,7 @@ run_ctest() {  # ctest arguments...; keeps the counts for the closing line
 }
 run_suite() {  # name, ctest arguments (quoted), extra cmake flags...
   local dir=build/$1 ctest_args=$2; shift 2
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER_LAUNCHER=ccache "$@" >/dev/null
   cmake --build "$dir" -j "$jobs"
   # shellcheck disable=SC2086
   run_ctest --test-dir "$dir" -j "$jobs" $ctest_args
@@ -24,9 +33,9 @@ run_suite() {  # name, ctest arguments (quoted), extra cmake flags...
 
 echo "== Release build and tests"
 run_suite release ""
-echo "== The renderer's window (GLFW) on a virtual X display (Xvfb); CTest ran the headless renderer"
+stage "The renderer's window (GLFW) on a virtual X display (Xvfb); CTest ran the headless renderer"
 xvfb-run -a build/release/tests/test_render --gtest_filter='Render.Window*'
-echo "== Python: pytest on the module of the Release build (tests/python), then pip install from pyproject.toml"
+stage "Python: pytest on the module of the Release build (tests/python), then pip install from pyproject.toml"
 python=/usr/bin/python3  # Debian's, with NumPy (the first python3 on a PATH may be another)
 if [ -d build/release/python/dqkit ]; then
   rc=0
@@ -51,31 +60,32 @@ else
   exit 1
 fi
 
-echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests (the packaging tests build dqkit again"
-echo "   without sanitizers: they ran above; the demo programs too)"
-run_suite asan-ubsan "-LE package" -DDQKIT_SANITIZE=ON -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF -DDQKIT_BUILD_DEMOS=OFF
+stage "AddressSanitizer + UndefinedBehaviorSanitizer build (-O1) and tests (the packaging tests build dqkit"
+echo "   again without sanitizers: they ran above; the demo programs too)"
+run_suite asan-ubsan "-LE package" -DDQKIT_SANITIZE=ON "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG" -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF -DDQKIT_BUILD_DEMOS=OFF
 
 if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo; then
-  echo "== Release build with -mavx2 -mfma: the library's tests (the tool, the importer, the demos and the packaging"
+  stage "Release build with -mavx2 -mfma: the library's tests (the tool, the importer, the demos and the packaging"
   echo "   tests are the same as above)"
   cmake -S . -B build/avx2 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="-mavx2 -mfma" -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF \
     -DDQKIT_BUILD_EXAMPLES=OFF -DDQKIT_BUILD_TOOLS=OFF -DDQKIT_WITH_ASSIMP=OFF -DDQKIT_BUILD_DEMOS=OFF >/dev/null
   cmake --build build/avx2 -j "$jobs"
   run_ctest --test-dir build/avx2 -j "$jobs" -LE package
 else
-  echo "== (this CPU has no AVX2 + FMA: the -mavx2 -mfma build is skipped)"
+  stage "(this CPU has no AVX2 + FMA: the -mavx2 -mfma build is skipped)"
 fi
 
-echo "== ThreadSanitizer build: the tests that use threads"
-cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDQKIT_TSAN=ON -DDQKIT_BUILD_BENCHMARKS=OFF \
+stage "ThreadSanitizer build (-O1): the tests that use threads"
+cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG" -DDQKIT_TSAN=ON -DDQKIT_BUILD_BENCHMARKS=OFF \
   -DDQKIT_BUILD_EXAMPLES=OFF >/dev/null
 cmake --build build/tsan -j "$jobs" --target test_threads test_skeleton test_skin  # test_skin: Skinning.Threads*
 run_ctest --test-dir build/tsan -R "Threads|ForwardKinematics"
 
-echo "== Fuzzing: every target for ${DQKIT_FUZZ_SECONDS:-45} s (libFuzzer, clang)"
-scripts/fuzz.sh "${DQKIT_FUZZ_SECONDS:-45}"
+stage "Fuzzing: every target for ${DQKIT_FUZZ_SECONDS:-20} s (libFuzzer, clang)"
+scripts/fuzz.sh "${DQKIT_FUZZ_SECONDS:-20}"
+stage "Summary"
 
 # One closing line for the whole run: every CTest test of the three builds (all passed, or the
 # script would have stopped above).
 total=$(sed -n 's/.*tests failed out of \([0-9]*\).*/\1/p' "$summary" | awk '{s+=$1} END {print s+0}')
-echo "all: $total passed, 0 failed"
+echo "all: $total passed, 0 failed, in $((SECONDS / 60)) min $((SECONDS % 60)) s"
