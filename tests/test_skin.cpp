@@ -16,6 +16,7 @@
 
 #include "dq/anim/forward_kinematics.hpp"
 #include "dq/convert/matrix.hpp"
+#include "dq/simd/batch.hpp"
 #include "dq/skin/scene_skin.hpp"
 #include "dq/skin/shapes.hpp"
 #include "dq/skin/skinning.hpp"
@@ -300,6 +301,123 @@ TEST(Skinning, ScaledBindsLandWhereTheMeshTransformPutsThem) {
           << "method " << static_cast<int>(m) << " vertex " << v;
     }
   }
+}
+
+// ---- the vector kernels against the scalar path ---------------------------------------------------
+
+/// Every instruction set this CPU has (simd::use_target; scalar first), restoring the best after.
+template <class F>
+void for_each_target(F f) {
+  for (simd::Target t : {simd::Target::scalar, simd::Target::sse2, simd::Target::avx2, simd::Target::avx512}) {
+    if (static_cast<int>(t) > static_cast<int>(simd::best_target())) break;
+    ASSERT_EQ(simd::use_target(t), t);
+    SCOPED_TRACE(std::string(simd::to_string(t)));
+    f(t);
+  }
+  simd::use_target(simd::Target::avx512);
+}
+
+/// A skin with exactly `slots` slots whose vertex count is no multiple of any vector width, with
+/// tangents, and (when `scaled`) binds with scale and shear and bone scales.
+RawSkin vector_test_skin(Random& rng, std::size_t slots, bool scaled) {
+  RawSkin raw = random_skin(rng, 16 * 5 + 2 * slots + 3, 9, slots);
+  for (std::size_t v = 0; v < raw.positions.size(); ++v) {
+    const Vec3<double> t = normalized(rng.vec3(1.0));
+    raw.tangents.push_back({float(t.x), float(t.y), float(t.z)});
+  }
+  // Bones 0 to 3 bound with the identity (antipodal_pose's signs reach the palette), and every
+  // vertex with two or more influences on one of bones 0, 1 and one of bones 2, 3.
+  for (std::size_t b = 0; b < 4; ++b) raw.inverse_bind[b] = Mat4<double>::identity();
+  for (std::size_t v = 0; v < raw.positions.size(); ++v)
+    if (raw.influence_offsets[v + 1] - raw.influence_offsets[v] >= 2) {
+      raw.influences[raw.influence_offsets[v]].bone = static_cast<std::uint32_t>(v % 2);
+      raw.influences[raw.influence_offsets[v] + 1].bone = static_cast<std::uint32_t>(2 + v / 2 % 2);
+    }
+  if (scaled)
+    for (std::size_t b = 4; b < raw.inverse_bind.size(); ++b) {
+      Mat4<double> p = Mat4<double>::identity();
+      for (int r = 0; r < 3; ++r)
+        for (int c = r; c < 3; ++c) p(r, c) = p(c, r) = r == c ? rng.uniform(0.6, 1.5) : rng.uniform(-0.2, 0.2);
+      raw.inverse_bind[b] = raw.inverse_bind[b] * p;
+      raw.bone_scale.resize(raw.inverse_bind.size(), 1.0);
+      raw.bone_scale[b] = rng.uniform(0.5, 2.0);
+    }
+  return raw;
+}
+
+/// A pose with antipodal bones: bone 1 is −bone 0 (the same transform, the opposite sign) and
+/// bone 3 is −bone 2, which turns 180° about x from bone 0.
+std::vector<DualQuaternion<double>> antipodal_pose(Random& rng, std::size_t bones) {
+  const auto a = DualQuaternion<double>::from_rotation_translation(Quaternion<double>(1, 0, 0, 0), {0.5, -1, 2});
+  const auto b = DualQuaternion<double>::from_rotation_translation(Quaternion<double>(0, 1, 0, 0), {-1, 0.25, 1});
+  std::vector<DualQuaternion<double>> pose{a, -a, b, -b};
+  for (const auto& q : random_pose(rng, bones - 4)) pose.push_back(q);
+  return pose;
+}
+
+// Every vector path performs the scalar path's operations in the same order without fused
+// multiply-adds, so the documented tolerance is zero: bit for bit, for every method, slot count
+// 1 to 8, tails (counts and starts that are no multiple of the width), scaled and antipodal bones.
+TEST(SkinningTargets, EveryTargetIsTheScalarPathBitForBit) {
+  Random rng(21);
+  for (bool scaled : {false, true})
+    for (std::size_t slots = 1; slots <= 8; ++slots) {
+      const Skin skin = *build_skin(vector_test_skin(rng, slots, scaled));
+      ASSERT_EQ(skin.slots(), slots);
+      ASSERT_EQ(skin.has_scale_shear(), scaled);
+      const auto pose = antipodal_pose(rng, skin.bone_count());
+      SkinPalette palette(skin.bone_count());
+      update_palette(skin, pose, palette);
+      // Real parts with signed zeros, so that the antipodality test meets dot products of
+      // exactly +0 (bones 0 and 2, 1 and 3) and −0 (bones 0 and 3, 1 and 2): the sign rule must
+      // follow the sign bit on every path.
+      const float real[4][4] = {{1, 0, 0, 0}, {-1, -0.0f, -0.0f, -0.0f}, {0, 1, 0, 0}, {-0.0f, -1, -0.0f, -0.0f}};
+      for (std::size_t b = 0; b < 4; ++b) std::copy(real[b], real[b] + 4, palette.dual_quaternions.begin() + 8 * static_cast<std::ptrdiff_t>(b));
+      const std::size_t n = skin.vertex_count();
+      for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor})
+        for (std::size_t first : {std::size_t{0}, std::size_t{3}}) {
+          SCOPED_TRACE("slots " + std::to_string(slots) + (scaled ? " scaled" : "") + " method " + std::to_string(int(m)) + " first " + std::to_string(first));
+          std::vector<Output> results;
+          for_each_target([&](simd::Target) {
+            Output o(n);
+            ASSERT_TRUE(SkinningThreads(1).run({&skin, &palette, m, o.view(true, true), first, n - first - 2}).ok());
+            results.push_back(std::move(o));
+          });
+          for (std::size_t t = 1; t < results.size(); ++t) {
+            SCOPED_TRACE(std::string(simd::to_string(simd::Target(t))));
+            for (auto part : {&Output::px, &Output::py, &Output::pz, &Output::nx, &Output::ny, &Output::nz, &Output::tx, &Output::ty, &Output::tz})
+              for (std::size_t v = 0; v < n; ++v)
+                ASSERT_EQ(std::memcmp(&(results[t].*part)[v], &(results[0].*part)[v], sizeof(float)), 0)
+                    << "vertex " << v << ": " << (results[t].*part)[v] << " against the scalar " << (results[0].*part)[v];
+          }
+        }
+    }
+}
+
+// The antipodal pose through the vector paths against the direct reading of the policy: a vertex
+// on bones 0 and 1 (= −bone 0) with any weights is moved by bone 0 alone (DQS and CoR), and a
+// vertex on bones 2 and 3 by bone 2 alone, whichever of them is the pivot.
+TEST(SkinningTargets, AntipodalBonesBlendToTheSameTransform) {
+  Random rng(22);
+  RawSkin raw = vector_test_skin(rng, 2, false);
+  for (std::size_t v = 0; v < raw.positions.size(); ++v) {
+    const std::uint32_t b = v % 2 ? 0 : 2;
+    const float w = 0.1f + 0.8f * float(v % 7) / 6;
+    raw.influences[raw.influence_offsets[v]] = {b, w};
+    if (raw.influence_offsets[v + 1] - raw.influence_offsets[v] == 2) raw.influences[raw.influence_offsets[v] + 1] = {b + 1, 1 - w};
+  }
+  const Skin skin = *build_skin(raw, {.centers_of_rotation = true});
+  const auto pose = antipodal_pose(rng, skin.bone_count());
+  for_each_target([&](simd::Target) {
+    for (SkinningMethod m : {SkinningMethod::dqs, SkinningMethod::cor}) {
+      const Output o = run(skin, pose, m);
+      for (std::size_t v = 0; v < skin.vertex_count(); ++v) {
+        const DualQuaternion<double>& q = pose[v % 2 ? 0 : 2];
+        const Vec3<double> e = q.transform_point(Vec3<double>{raw.positions[v].x, raw.positions[v].y, raw.positions[v].z});
+        ASSERT_LE(test::max_abs_diff(o.p(v), Vec3<float>{float(e.x), float(e.y), float(e.z)}), position_tolerance(8)) << "vertex " << v;
+      }
+    }
+  });
 }
 
 // ---- centres of rotation --------------------------------------------------------------------

@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 
 #include "dq/convert/matrix.hpp"
+#include "dq/simd/batch.hpp"
 #include "dq/util/assert.hpp"
 
 namespace dq {
@@ -50,125 +54,344 @@ Status SkinningJob::validate() const {
 
 namespace {
 
+// ---- the per-vertex formulas, written once over a "lane" type V --------------------------------
+// V is float (the scalar path, the reference) or a vector of N floats (GCC's vector extensions,
+// one vertex per lane). Every path performs the same operations in the same order, without fused
+// multiply-adds (-ffp-contract=off), so each lane is bit-identical to the scalar result.
+
+template <class V>
 struct V3 {
-  float x, y, z;
+  V x, y, z;
 };
-inline V3 cross3(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline V3 add(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline V3 scale(V3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
-inline V3 unit(V3 a) {
-  const float n = std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
-  return n > 0 ? scale(a, 1.0f / n) : a;
+template <class V>
+[[gnu::always_inline]] inline V3<V> cross3(V3<V> a, V3<V> b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+template <class V>
+[[gnu::always_inline]] inline V3<V> add(V3<V> a, V3<V> b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+template <class V>
+[[gnu::always_inline]] inline V3<V> scale(V3<V> a, V s) {
+  return {a.x * s, a.y * s, a.z * s};
+}
+[[gnu::always_inline]] inline float root(float x) { return std::sqrt(x); }
+[[gnu::always_inline]] inline float copysign_of(float magnitude, float sign) { return std::copysign(magnitude, sign); }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+#pragma GCC diagnostic ignored "-Wpsabi"  // wide vectors pass by value only inside flattened targets
+using float4 = float __attribute__((vector_size(16)));
+using float8 = float __attribute__((vector_size(32)));
+using float16 = float __attribute__((vector_size(64)));
+using int4 = std::int32_t __attribute__((vector_size(16)));
+using int8 = std::int32_t __attribute__((vector_size(32)));
+using int16 = std::int32_t __attribute__((vector_size(64)));
+template <int N>
+struct VectorOf;
+template <>
+struct VectorOf<4> {
+  using type = float4;
+  using bits = int4;
+};
+template <>
+struct VectorOf<8> {
+  using type = float8;
+  using bits = int8;
+};
+template <>
+struct VectorOf<16> {
+  using type = float16;
+  using bits = int16;
+};
+
+template <class T>
+[[gnu::always_inline]] inline T load_as(const float* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+template <class F, class I = typename VectorOf<static_cast<int>(sizeof(F) / sizeof(float))>::bits>
+[[gnu::always_inline]] inline F root(F x) {
+  F r;
+  for (std::size_t i = 0; i < sizeof(F) / sizeof(float); ++i) r[i] = __builtin_sqrtf(x[i]);  // one instruction (-fno-math-errno)
+  return r;
+}
+template <class F, class I = typename VectorOf<static_cast<int>(sizeof(F) / sizeof(float))>::bits>
+[[gnu::always_inline]] inline F copysign_of(F magnitude, F sign) {
+  const I m = __builtin_bit_cast(I, magnitude), s = __builtin_bit_cast(I, sign);
+  const std::int32_t top = std::numeric_limits<std::int32_t>::min();  // the sign bit
+  return __builtin_bit_cast(F, (m & ~top) | (s & top));
+}
+
+#endif
+template <class V>
+[[gnu::always_inline]] inline V3<V> unit(V3<V> a) {
+  const V n = root(a.x * a.x + a.y * a.y + a.z * a.z);
+  const V inv = 1.0f / n;  // (unused where n = 0)
+  const auto positive = n > 0.0f;
+  return {positive ? a.x * inv : a.x, positive ? a.y * inv : a.y, positive ? a.z * inv : a.z};
 }
 /// The linear part of a 3x4 matrix (row-major a[r*4+c]) times v.
-inline V3 linear(const float* a, V3 v) {
+template <class V>
+[[gnu::always_inline]] inline V3<V> linear(const V* a, V3<V> v) {
   return {a[0] * v.x + a[1] * v.y + a[2] * v.z, a[4] * v.x + a[5] * v.y + a[6] * v.z, a[8] * v.x + a[9] * v.y + a[10] * v.z};
 }
-inline V3 affine(const float* a, V3 v) { return add(linear(a, v), V3{a[3], a[7], a[11]}); }
+template <class V>
+[[gnu::always_inline]] inline V3<V> affine(const V* a, V3<V> v) {
+  return add(linear(a, v), V3<V>{a[3], a[7], a[11]});
+}
 /// The cofactor matrix's linear action (det · A⁻ᵀ): how a normal transforms, up to length.
-inline V3 cofactor(const float* a, V3 n) {
-  const V3 c0{a[0], a[4], a[8]}, c1{a[1], a[5], a[9]}, c2{a[2], a[6], a[10]};
-  const V3 r0 = cross3(c1, c2), r1 = cross3(c2, c0), r2 = cross3(c0, c1);
+template <class V>
+[[gnu::always_inline]] inline V3<V> cofactor(const V* a, V3<V> n) {
+  const V3<V> c0{a[0], a[4], a[8]}, c1{a[1], a[5], a[9]}, c2{a[2], a[6], a[10]};
+  const V3<V> r0 = cross3(c1, c2), r1 = cross3(c2, c0), r2 = cross3(c0, c1);
   return {r0.x * n.x + r1.x * n.y + r2.x * n.z, r0.y * n.x + r1.y * n.y + r2.y * n.z, r0.z * n.x + r1.z * n.y + r2.z * n.z};
 }
-/// K > 0: the skin has exactly K slots (a compile-time count the compiler unrolls); K = 0: any.
-template <SkinningMethod M, std::size_t K>
-void skin_range(const Skin& skin, const SkinPalette& pal, const SkinnedVertices& out, std::size_t b, std::size_t e) {
-  const std::size_t n = skin.vertex_count(), slots = K > 0 ? K : skin.slots();
-  const std::uint32_t* __restrict bone = skin.slot_bones().data();
-  const float* __restrict weight = skin.slot_weights().data();
-  const float* __restrict mats = pal.matrices.data();
-  const float* __restrict dqs = pal.dual_quaternions.data();
-  const float* __restrict scales = pal.scale_shear.data();
-  const float *__restrict px = skin.px().data(), *__restrict py = skin.py().data(), *__restrict pz = skin.pz().data();
-  const float *nx = skin.nx().data(), *ny = skin.ny().data(), *nz = skin.nz().data();
-  const float *tx = skin.tx().data(), *ty = skin.ty().data(), *tz = skin.tz().data();
-  const float *cx = skin.cx().data(), *cy = skin.cy().data(), *cz = skin.cz().data();
-  float *__restrict opx = out.px.data(), *__restrict opy = out.py.data(), *__restrict opz = out.pz.data();
-  float *onx = out.nx.data(), *ony = out.ny.data(), *onz = out.nz.data();
-  float *otx = out.tx.data(), *oty = out.ty.data(), *otz = out.tz.data();
-  const bool normals = !out.nx.empty(), tangents = !out.tx.empty();
-  // The linear phase (Kavan's two-phase method) is needed by DQS and CoR only when a bind scales.
-  const bool scaled = M != SkinningMethod::lbs && skin.has_scale_shear();
-  for (std::size_t v = b; v < e; ++v) {
-    const V3 p{px[v], py[v], pz[v]};
-    float mat[12] = {};  // blended 3x4 matrix (LBS, CoR)
-    float dq[8] = {};    // blended dual quaternion (DQS; CoR uses its real part)
-    float lin[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};  // blended scale/shear (two-phase)
-    if constexpr (M != SkinningMethod::lbs) {
-      const float* r0 = dqs + 8 * bone[v];  // slot 0: the pivot (largest weight, then lowest bone)
-      constexpr int parts = M == SkinningMethod::dqs ? 8 : 4;
-      for (int c = 0; c < parts; ++c) dq[c] = weight[v] * r0[c];
-      for (std::size_t k = 1; k < slots; ++k) {
-        const float* q = dqs + 8 * bone[k * n + v];
-        const float d = q[0] * r0[0] + q[1] * r0[1] + q[2] * r0[2] + q[3] * r0[3];
-        const float s = std::copysign(weight[k * n + v], d);  // antipodality: the pivot's hemisphere
-        for (int c = 0; c < parts; ++c) dq[c] += s * q[c];
-      }
+
+/// What a kernel reads and writes, resolved once per range.
+struct Streams {
+  std::size_t n, slots;
+  const std::uint32_t* bone;
+  const float *weight, *mats, *dqs, *scales;
+  const float *px, *py, *pz, *nx, *ny, *nz, *tx, *ty, *tz, *cx, *cy, *cz;
+  float *opx, *opy, *opz, *onx, *ony, *onz, *otx, *oty, *otz;
+  bool normals, tangents, scaled;
+  Streams(const Skin& skin, const SkinPalette& pal, const SkinnedVertices& out, SkinningMethod m)
+      : n(skin.vertex_count()), slots(skin.slots()), bone(skin.slot_bones().data()), weight(skin.slot_weights().data()),
+        mats(pal.matrices.data()), dqs(pal.dual_quaternions.data()), scales(pal.scale_shear.data()),
+        px(skin.px().data()), py(skin.py().data()), pz(skin.pz().data()), nx(skin.nx().data()), ny(skin.ny().data()), nz(skin.nz().data()),
+        tx(skin.tx().data()), ty(skin.ty().data()), tz(skin.tz().data()), cx(skin.cx().data()), cy(skin.cy().data()), cz(skin.cz().data()),
+        opx(out.px.data()), opy(out.py.data()), opz(out.pz.data()), onx(out.nx.data()), ony(out.ny.data()), onz(out.nz.data()),
+        otx(out.tx.data()), oty(out.ty.data()), otz(out.tz.data()), normals(!out.nx.empty()), tangents(!out.tx.empty()),
+        // The linear phase (Kavan's two-phase method) is needed by DQS and CoR only when a bind scales.
+        scaled(m != SkinningMethod::lbs && skin.has_scale_shear()) {}
+};
+
+/// One vertex per call: the scalar path.
+struct ScalarLanes {
+  using V = float;
+  static V load(const float* p) { return *p; }
+  static void store(float* p, V x) { *p = x; }
+  /// out[c] = table[stride * bones[0] + offset + c] for c < C.
+  template <int C>
+  static void rows(const float* table, std::size_t stride, const std::uint32_t* bones, std::size_t offset, V* out) {
+    const float* e = table + stride * bones[0] + offset;
+    for (int c = 0; c < C; ++c) out[c] = e[c];
+  }
+};
+
+/// Skins the vertices of one call of P (one, or one per vector lane) from v. K > 0: the skin has exactly K slots (a compile-time
+/// count the compiler unrolls); K = 0: any.
+template <SkinningMethod M, std::size_t K, class P>
+[[gnu::always_inline]] inline void skin_block(const Streams& s, std::size_t v) {
+  using V = typename P::V;
+  const std::size_t n = s.n, slots = K > 0 ? K : s.slots;
+  const V3<V> p{P::load(s.px + v), P::load(s.py + v), P::load(s.pz + v)};
+  V mat[12];  // blended 3x4 matrix (LBS, CoR)
+  V dq[8];    // blended dual quaternion (DQS; CoR uses its real part)
+  V lin[12] = {};  // blended scale/shear (two-phase; set when s.scaled)
+  // Σ_k w_k · table[bone_k] over the slots, for a 3x4 matrix table (rows 0-1, then row 2).
+  auto blend_matrices = [&](const float* table, V* sum) {
+    V m[12];
+    auto load_slot = [&](std::size_t k) {
+      P::template rows<8>(table, 12, s.bone + k * n + v, 0, m);
+      P::template rows<4>(table, 12, s.bone + k * n + v, 8, m + 8);
+      return P::load(s.weight + k * n + v);
+    };
+    const V w0 = load_slot(0);
+    for (int c = 0; c < 12; ++c) sum[c] = w0 * m[c];
+    for (std::size_t k = 1; k < slots; ++k) {
+      const V w = load_slot(k);
+      for (int c = 0; c < 12; ++c) sum[c] = sum[c] + w * m[c];
     }
-    if constexpr (M != SkinningMethod::dqs) {
-      for (std::size_t k = 0; k < slots; ++k) {
-        const float* m = mats + 12 * bone[k * n + v];
-        const float w = weight[k * n + v];
-        for (int c = 0; c < 12; ++c) mat[c] += w * m[c];
-      }
+  };
+  if constexpr (M != SkinningMethod::lbs) {
+    constexpr std::size_t parts = M == SkinningMethod::dqs ? 8 : 4;
+    V r0[parts];  // slot 0: the pivot (largest weight, then lowest bone)
+    P::template rows<parts>(s.dqs, 8, s.bone + v, 0, r0);
+    const V w0 = P::load(s.weight + v);
+    for (std::size_t c = 0; c < parts; ++c) dq[c] = w0 * r0[c];
+    for (std::size_t k = 1; k < slots; ++k) {
+      V q[parts];
+      P::template rows<parts>(s.dqs, 8, s.bone + k * n + v, 0, q);
+      const V d = q[0] * r0[0] + q[1] * r0[1] + q[2] * r0[2] + q[3] * r0[3];
+      const V w = copysign_of(P::load(s.weight + k * n + v), d);  // antipodality: the pivot's hemisphere
+      for (std::size_t c = 0; c < parts; ++c) dq[c] = dq[c] + w * q[c];
     }
-    if (scaled) {
-      for (float& x : lin) x = 0;
-      for (std::size_t k = 0; k < slots; ++k) {
-        const float* m = scales + 12 * bone[k * n + v];
-        const float w = weight[k * n + v];
-        for (int c = 0; c < 12; ++c) lin[c] += w * m[c];
-      }
-    }
-    auto write = [v](V3 x, float* ox, float* oy, float* oz) { ox[v] = x.x, oy[v] = x.y, oz[v] = x.z; };
-    if constexpr (M == SkinningMethod::lbs) {
-      write(affine(mat, p), opx, opy, opz);
-      if (normals) write(unit(cofactor(mat, {nx[v], ny[v], nz[v]})), onx, ony, onz);
-      if (tangents) write(unit(linear(mat, {tx[v], ty[v], tz[v]})), otx, oty, otz);
+  }
+  if constexpr (M != SkinningMethod::dqs) blend_matrices(s.mats, mat);
+  if (s.scaled) blend_matrices(s.scales, lin);
+  auto write = [v](V3<V> x, float* ox, float* oy, float* oz) { P::store(ox + v, x.x), P::store(oy + v, x.y), P::store(oz + v, x.z); };
+  auto read = [v](const float* x, const float* y, const float* z) { return V3<V>{P::load(x + v), P::load(y + v), P::load(z + v)}; };
+  if constexpr (M == SkinningMethod::lbs) {
+    write(affine(mat, p), s.opx, s.opy, s.opz);
+    if (s.normals) write(unit(cofactor(mat, read(s.nx, s.ny, s.nz))), s.onx, s.ony, s.onz);
+    if (s.tangents) write(unit(linear(mat, read(s.tx, s.ty, s.tz))), s.otx, s.oty, s.otz);
+  } else {
+    // The blend is not normalized: with q = (w, u), |q|² = n2, the unit rotation's action is
+    // v + (2/n2) (w (u × v) + u × (u × v)) and the translation (2/n2) (w d⃗ − d_w u + u × d⃗).
+    // One reciprocal and no square root (which would sit on the critical path of every vertex).
+    const V w = dq[0];
+    const V3<V> u{dq[1], dq[2], dq[3]};
+    const V k = 2.0f / (w * w + u.x * u.x + u.y * u.y + u.z * u.z);
+    auto rotate_blend = [&](V3<V> x) {
+      const V3<V> c = cross3(u, x);
+      return add(x, scale(add(scale(c, w), cross3(u, c)), k));
+    };
+    if constexpr (M == SkinningMethod::dqs) {
+      const V3<V> d{dq[5], dq[6], dq[7]};
+      const V3<V> t = scale(add(add(scale(d, w), scale(u, -dq[4])), cross3(u, d)), k);
+      write(add(rotate_blend(s.scaled ? linear(lin, p) : p), t), s.opx, s.opy, s.opz);
     } else {
-      // The blend is not normalized: with q = (w, u), |q|² = n2, the unit rotation's action is
-      // v + (2/n2) (w (u × v) + u × (u × v)) and the translation (2/n2) (w d⃗ − d_w u + u × d⃗).
-      // One reciprocal and no square root (which would sit on the critical path of every vertex).
-      const float w = dq[0];
-      const V3 u{dq[1], dq[2], dq[3]};
-      const float k = 2.0f / (w * w + u.x * u.x + u.y * u.y + u.z * u.z);
-      auto rotate_blend = [&](V3 x) {
-        const V3 c = cross3(u, x);
-        return add(x, scale(add(scale(c, w), cross3(u, c)), k));
-      };
-      if constexpr (M == SkinningMethod::dqs) {
-        const V3 d{dq[5], dq[6], dq[7]};
-        const V3 t = scale(add(add(scale(d, w), scale(u, -dq[4])), cross3(u, d)), k);
-        write(add(rotate_blend(scaled ? linear(lin, p) : p), t), opx, opy, opz);
-      } else {
-        // CoR: rotate about the centre c by the blended rotation, move c by the blended matrix.
-        const V3 c{cx[v], cy[v], cz[v]};
-        const V3 rel{p.x - c.x, p.y - c.y, p.z - c.z};
-        write(add(rotate_blend(scaled ? linear(lin, rel) : rel), affine(mat, c)), opx, opy, opz);
-      }
-      if (normals) {
-        const V3 nv{nx[v], ny[v], nz[v]};
-        write(rotate_blend(scaled ? unit(cofactor(lin, nv)) : nv), onx, ony, onz);
-      }
-      if (tangents) {
-        const V3 tv{tx[v], ty[v], tz[v]};
-        write(rotate_blend(scaled ? unit(linear(lin, tv)) : tv), otx, oty, otz);
-      }
+      // CoR: rotate about the centre c by the blended rotation, move c by the blended matrix.
+      const V3<V> c = read(s.cx, s.cy, s.cz);
+      const V3<V> rel{p.x - c.x, p.y - c.y, p.z - c.z};
+      write(add(rotate_blend(s.scaled ? linear(lin, rel) : rel), affine(mat, c)), s.opx, s.opy, s.opz);
+    }
+    if (s.normals) {
+      const V3<V> nv = read(s.nx, s.ny, s.nz);
+      write(rotate_blend(s.scaled ? unit(cofactor(lin, nv)) : nv), s.onx, s.ony, s.onz);
+    }
+    if (s.tangents) {
+      const V3<V> tv = read(s.tx, s.ty, s.tz);
+      write(rotate_blend(s.scaled ? unit(linear(lin, tv)) : tv), s.otx, s.oty, s.otz);
     }
   }
 }
 
-/// The usual influence counts (1 to 4, and 8) get kernels unrolled for them.
+/// The scalar path over [b, e): the reference the vector paths are tested against, and their tail.
+template <SkinningMethod M, std::size_t K>
+void skin_scalar(const Streams& s, std::size_t b, std::size_t e) {
+  for (std::size_t v = b; v < e; ++v) skin_block<M, K, ScalarLanes>(s, v);
+}
+
+/// The usual influence counts (1 to 4, and 8) get scalar kernels unrolled for them.
 template <SkinningMethod M>
-void dispatch_slots(const Skin& skin, const SkinPalette& pal, const SkinnedVertices& out, std::size_t b, std::size_t e) {
-  switch (skin.slots()) {
-    case 1: return skin_range<M, 1>(skin, pal, out, b, e);
-    case 2: return skin_range<M, 2>(skin, pal, out, b, e);
-    case 3: return skin_range<M, 3>(skin, pal, out, b, e);
-    case 4: return skin_range<M, 4>(skin, pal, out, b, e);
-    case 8: return skin_range<M, 8>(skin, pal, out, b, e);
-    default: return skin_range<M, 0>(skin, pal, out, b, e);
+void skin_scalar_slots(const Streams& s, std::size_t b, std::size_t e) {
+  switch (s.slots) {
+    case 1: return skin_scalar<M, 1>(s, b, e);
+    case 2: return skin_scalar<M, 2>(s, b, e);
+    case 3: return skin_scalar<M, 3>(s, b, e);
+    case 4: return skin_scalar<M, 4>(s, b, e);
+    case 8: return skin_scalar<M, 8>(s, b, e);
+    default: return skin_scalar<M, 0>(s, b, e);
+  }
+}
+
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+// ---- vector lanes, one instruction set per function ---------------------------------------------
+// As in src/simd/batch.cpp: each target's kernel is a function with GCC's `target` attribute and
+// `flatten`, so the generic code above, instantiated on GCC's vector types, is inlined and
+// compiled for that target (never a per-file -m flag). Palette entries are loaded per lane (one
+// vector load of a bone's record) and transposed to component vectors with shuffles: no gathers.
+// Shuffles within each 128-bit block (unpcklps, unpckhps, movlhps, movhlps per block).
+#define DQKIT_IN_BLOCKS(name, i0, i1, i2, i3)                                                                              \
+  [[gnu::always_inline]] inline float4 name(float4 a, float4 b) { return __builtin_shufflevector(a, b, i0, i1, i2, i3); } \
+  [[gnu::always_inline]] inline float8 name(float8 a, float8 b) {                                                        \
+    return __builtin_shufflevector(a, b, i0 + (i0 < 4 ? 0 : 4), i1 + (i1 < 4 ? 0 : 4), i2 + (i2 < 4 ? 0 : 4), i3 + (i3 < 4 ? 0 : 4), \
+                                   i0 + (i0 < 4 ? 4 : 8), i1 + (i1 < 4 ? 4 : 8), i2 + (i2 < 4 ? 4 : 8), i3 + (i3 < 4 ? 4 : 8)); \
+  }                                                                                                                      \
+  [[gnu::always_inline]] inline float16 name(float16 a, float16 b) {                                                     \
+    return __builtin_shufflevector(a, b, i0 + (i0 < 4 ? 0 : 12), i1 + (i1 < 4 ? 0 : 12), i2 + (i2 < 4 ? 0 : 12), i3 + (i3 < 4 ? 0 : 12), \
+                                   i0 + (i0 < 4 ? 4 : 16), i1 + (i1 < 4 ? 4 : 16), i2 + (i2 < 4 ? 4 : 16), i3 + (i3 < 4 ? 4 : 16), \
+                                   i0 + (i0 < 4 ? 8 : 20), i1 + (i1 < 4 ? 8 : 20), i2 + (i2 < 4 ? 8 : 20), i3 + (i3 < 4 ? 8 : 20), \
+                                   i0 + (i0 < 4 ? 12 : 24), i1 + (i1 < 4 ? 12 : 24), i2 + (i2 < 4 ? 12 : 24), i3 + (i3 < 4 ? 12 : 24)); \
+  }
+DQKIT_IN_BLOCKS(unpack_low, 0, 4, 1, 5)
+DQKIT_IN_BLOCKS(unpack_high, 2, 6, 3, 7)
+DQKIT_IN_BLOCKS(low_halves, 0, 1, 4, 5)
+DQKIT_IN_BLOCKS(high_halves, 2, 3, 6, 7)
+#undef DQKIT_IN_BLOCKS
+
+/// Transposes four rows within each 128-bit block: out[c] block g holds component c of the four rows' block g.
+template <class F>
+[[gnu::always_inline]] inline void transpose4_in_blocks(const F* r, F* out) {
+  const F t0 = unpack_low(r[0], r[1]), t1 = unpack_high(r[0], r[1]), t2 = unpack_low(r[2], r[3]), t3 = unpack_high(r[2], r[3]);
+  out[0] = low_halves(t0, t2), out[1] = high_halves(t0, t2), out[2] = low_halves(t1, t3), out[3] = high_halves(t1, t3);
+}
+
+/// N vertices per call (N = 4, 8, 16).
+template <int N>
+struct VectorLanes {
+  using V = typename VectorOf<N>::type;
+  static V load(const float* p) { return load_as<V>(p); }
+  static void store(float* p, V x) { std::memcpy(p, &x, sizeof x); }
+  /// out[c] lane j = table[stride * bones[j] + offset + c] for c < C (C = 4 or 8): one load of C
+  /// floats per lane, then a transpose.
+  template <int C>
+  static void rows(const float* table, std::size_t stride, const std::uint32_t* bones, std::size_t offset, V* out) {
+    auto entry = [&](int j) { return table + stride * bones[j] + offset; };
+    if constexpr (C == 4 || N == 4) {
+      // Rows of four: lane j's record in block j / 4 of row j % 4.
+      for (int half = 0; half < C / 4; ++half) {
+        V r[4];
+        for (int j = 0; j < 4; ++j) {
+          if constexpr (N == 4) {
+            r[j] = load_as<float4>(entry(j) + 4 * half);
+          } else if constexpr (N == 8) {
+            r[j] = __builtin_shufflevector(load_as<float4>(entry(j)), load_as<float4>(entry(j + 4)), 0, 1, 2, 3, 4, 5, 6, 7);
+          } else {
+            const float8 lo = __builtin_shufflevector(load_as<float4>(entry(j)), load_as<float4>(entry(j + 4)), 0, 1, 2, 3, 4, 5, 6, 7);
+            const float8 hi = __builtin_shufflevector(load_as<float4>(entry(j + 8)), load_as<float4>(entry(j + 12)), 0, 1, 2, 3, 4, 5, 6, 7);
+            r[j] = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+          }
+        }
+        transpose4_in_blocks(r, out + 4 * half);
+      }
+    } else {
+      // Eight components, N = 8 or 16: row j holds the records of lanes j (and j + 8), whose two
+      // blocks are components 0-3 and 4-7; transposed in blocks, then blocks regrouped across rows.
+      V r[8], u[8];
+      for (int j = 0; j < 8; ++j) {
+        if constexpr (N == 8)
+          r[j] = load_as<float8>(entry(j));
+        else
+          r[j] = __builtin_shufflevector(load_as<float8>(entry(j)), load_as<float8>(entry(j + 8)), 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+      }
+      transpose4_in_blocks(r, u);      // u[c]: components c | c + 4 of lanes 0-3 (| c, c + 4 of 8-11)
+      transpose4_in_blocks(r + 4, u + 4);  // the same for lanes 4-7 (and 12-15)
+      for (int c = 0; c < 4; ++c) {
+        if constexpr (N == 8) {
+          out[c] = __builtin_shufflevector(u[c], u[c + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+          out[c + 4] = __builtin_shufflevector(u[c], u[c + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+        } else {
+          out[c] = __builtin_shufflevector(u[c], u[c + 4], 0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
+          out[c + 4] = __builtin_shufflevector(u[c], u[c + 4], 4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
+        }
+      }
+    }
+  }
+};
+
+/// Whole vectors over [b, e), the scalar path for the tail.
+template <SkinningMethod M, int N>
+[[gnu::always_inline]] inline void skin_vectors(const Streams& s, std::size_t b, std::size_t e) {
+  std::size_t v = b;
+  for (; v + N <= e; v += N) skin_block<M, 0, VectorLanes<N>>(s, v);
+  for (; v < e; ++v) skin_block<M, 0, ScalarLanes>(s, v);
+}
+
+#define DQKIT_SKIN_TARGET(name, lanes, attribute)                                                                      \
+  template <SkinningMethod M>                                                                                          \
+  [[gnu::target(attribute), gnu::flatten]] void skin_##name(const Streams& s, std::size_t b, std::size_t e) {          \
+    skin_vectors<M, lanes>(s, b, e);                                                                                   \
+  }
+DQKIT_SKIN_TARGET(sse2, 4, "sse2")
+DQKIT_SKIN_TARGET(avx2, 8, "avx2,fma")
+DQKIT_SKIN_TARGET(avx512, 16, "avx512f")
+#undef DQKIT_SKIN_TARGET
+#endif
+
+/// The kernel of the target in use (simd::current_target, chosen from the CPU at run time).
+template <SkinningMethod M>
+void skin_range(const Skin& skin, const SkinPalette& pal, const SkinnedVertices& out, std::size_t b, std::size_t e) {
+  const Streams s(skin, pal, out, M);
+  switch (simd::current_target()) {
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+    case simd::Target::avx512: return skin_avx512<M>(s, b, e);
+    case simd::Target::avx2: return skin_avx2<M>(s, b, e);
+    case simd::Target::sse2: return skin_sse2<M>(s, b, e);
+#endif
+    default: return skin_scalar_slots<M>(s, b, e);
   }
 }
 
@@ -177,9 +400,9 @@ void dispatch_slots(const Skin& skin, const SkinPalette& pal, const SkinnedVerti
 void SkinningJob::run() const {
   DQ_PRECONDITION(validate().ok(), "SkinningJob::run on a job that does not validate");
   switch (method) {
-    case SkinningMethod::lbs: return dispatch_slots<SkinningMethod::lbs>(*skin, *palette, out, first, first + count);
-    case SkinningMethod::dqs: return dispatch_slots<SkinningMethod::dqs>(*skin, *palette, out, first, first + count);
-    case SkinningMethod::cor: return dispatch_slots<SkinningMethod::cor>(*skin, *palette, out, first, first + count);
+    case SkinningMethod::lbs: return skin_range<SkinningMethod::lbs>(*skin, *palette, out, first, first + count);
+    case SkinningMethod::dqs: return skin_range<SkinningMethod::dqs>(*skin, *palette, out, first, first + count);
+    case SkinningMethod::cor: return skin_range<SkinningMethod::cor>(*skin, *palette, out, first, first + count);
   }
 }
 
