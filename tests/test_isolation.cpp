@@ -105,7 +105,7 @@ TEST_F(Isolation, AnnouncedResultSizeIsCheckedBeforeAllocating) {
 
 TEST_F(Isolation, CountsAreCheckedAgainstTheBudgetBeforeAllocating) {
   ImportOptions options;
-  options.result_limit_mb = 1;  // the payload (0.95 MB) fits; 14000 meshes in memory do not
+  options.result_limit_mb = 1;  // the payload (0.94 MB) fits; 13000 meshes in memory do not
   const Expected<ImportedScene> s = import_with_fake("many_meshes", options);
   EXPECT_NE(message(s).find("model.gltf: the importer's result needs more than the 1 MB allowed (ImportOptions::result_limit_mb)"),
             std::string::npos)

@@ -553,6 +553,7 @@ TEST(SkinningFiles, SimpleSkinLbsEqualsTheGltfSpecification) {
 // skeleton is rigid with the scale recorded apart (joint_scale); LBS of the rest pose must agree.
 struct AssimpReference {
   std::vector<Vec3<double>> positions;  ///< all meshes, import order
+  std::vector<Vec3<double>> tangents;   ///< LBS of the tangents, normalize(Σ wᵢ L(Gᵢ Oᵢ) t); empty unless every mesh has them
   bool same_bind = true;                ///< every bone of every mesh has the same G·O at rest (rest pose = bind pose)
 };
 
@@ -571,7 +572,7 @@ AssimpReference assimp_rest_pose(const std::string& relative) {
   AssimpReference out;
   for (unsigned m = 0; m < s->mNumMeshes; ++m) {
     const aiMesh& mesh = *s->mMeshes[m];
-    std::vector<Vec3<double>> sum(mesh.mNumVertices, Vec3<double>{0, 0, 0});
+    std::vector<Vec3<double>> sum(mesh.mNumVertices, Vec3<double>{0, 0, 0}), tangent(mesh.mNumVertices, Vec3<double>{0, 0, 0});
     std::vector<double> wsum(mesh.mNumVertices, 0);
     aiMatrix4x4 first;
     for (unsigned b = 0; b < mesh.mNumBones; ++b) {
@@ -593,10 +594,18 @@ AssimpReference assimp_rest_pose(const std::string& relative) {
         const Vec3<double> q{kd[0][0] * x + kd[0][1] * y + kd[0][2] * z + kd[0][3], kd[1][0] * x + kd[1][1] * y + kd[1][2] * z + kd[1][3],
                              kd[2][0] * x + kd[2][1] * y + kd[2][2] * z + kd[2][3]};
         sum[vw.mVertexId] += q * double(vw.mWeight);
+        if (mesh.mTangents) {
+          const aiVector3D& t = mesh.mTangents[vw.mVertexId];
+          const double tx = double(t.x), ty = double(t.y), tz = double(t.z);
+          tangent[vw.mVertexId] += Vec3<double>{kd[0][0] * tx + kd[0][1] * ty + kd[0][2] * tz, kd[1][0] * tx + kd[1][1] * ty + kd[1][2] * tz,
+                                                kd[2][0] * tx + kd[2][1] * ty + kd[2][2] * tz} * double(vw.mWeight);
+        }
         wsum[vw.mVertexId] += double(vw.mWeight);
       }
     }
     for (unsigned v = 0; v < mesh.mNumVertices; ++v) out.positions.push_back(sum[v] / wsum[v]);
+    if (mesh.mTangents)
+      for (unsigned v = 0; v < mesh.mNumVertices; ++v) out.tangents.push_back(normalized(tangent[v]));
   }
   return out;
 }
@@ -644,6 +653,67 @@ TEST_P(SkinnedCharacter, AnimatedFramesAreFiniteAndOrderIndependent) {
 INSTANTIATE_TEST_SUITE_P(Files, SkinnedCharacter,
                          ::testing::Values("glTF2/simple_skin/simple_skin.gltf", "X/BCN_Epileptic.X", "X/Testwuson.X",
                                            "FBX/animation_with_skeleton.fbx", "FBX/huesitos.fbx", "Collada/box_nested_animation.dae"));
+
+// Tangents (issue 11): FBX/huesitos.fbx, a skinned and animated character, carries them. The
+// importer hands Assimp's aiMesh::mTangents to the skins (checked against Assimp read directly with
+// the importer's post-processing, so in the same vertex order). The file's tangents are unit and
+// orthogonal to its normals to 1e-4 (its exporter's precision: the largest |t·n| is 7.9e-5). At
+// rest every method's tangents are Assimp's scene graph applied to them; animated, they stay unit,
+// and DQS and CoR, which rotate tangents and normals alike, keep each vertex's t·n of the bind.
+TEST(SkinningFiles, TangentsFromTheFileAreSkinnedWithTheNormals) {
+  DQKIT_REQUIRE_MODELS();
+  const std::string relative = "FBX/huesitos.fbx";
+  const ImportedScene scene = import(relative);
+  Assimp::Importer importer;
+  const aiScene* s = importer.ReadFile((test::assimp_models() / relative).string(),
+                                       aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_LimitBoneWeights | aiProcess_ValidateDataStructure);
+  ASSERT_NE(s, nullptr);
+  ASSERT_EQ(s->mNumMeshes, scene.meshes.size());
+  std::vector<float> bind_dot;  // t·n per vertex, frame order
+  for (unsigned m = 0; m < s->mNumMeshes; ++m) {
+    const aiMesh& mesh = *s->mMeshes[m];
+    const ImportedMesh& imported = scene.meshes[m];
+    ASSERT_NE(mesh.mTangents, nullptr) << "mesh " << m;
+    ASSERT_EQ(imported.tangents.size(), mesh.mNumVertices);
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+      ASSERT_EQ(imported.tangents[v], (Vec3<float>{mesh.mTangents[v].x, mesh.mTangents[v].y, mesh.mTangents[v].z})) << "vertex " << v;
+      ASSERT_LE(std::abs(norm(imported.tangents[v]) - 1), position_tolerance(1)) << "vertex " << v;
+      ASSERT_LE(std::abs(dot(imported.tangents[v], imported.normals[v])), 1e-4f) << "vertex " << v;
+      bind_dot.push_back(dot(imported.tangents[v], imported.normals[v]));
+    }
+  }
+  // At rest: Assimp's scene graph.
+  const AssimpReference reference = assimp_rest_pose(relative);
+  ASSERT_EQ(reference.tangents.size(), bind_dot.size());
+  std::vector<DualQuaternion<double>> world(scene.skeleton.size());
+  local_to_model<DualQuaternion<double>>(scene.skeleton, scene.skeleton.rest_pose(), world);
+  for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor}) {
+    if (m != SkinningMethod::lbs && !reference.same_bind) continue;
+    const SkinnedFrame frame = skin_scene(scene, world, m);
+    ASSERT_EQ(frame.tx.size(), frame.size());
+    for (std::size_t v = 0; v < frame.size(); ++v) {
+      const Vec3<double>& e = reference.tangents[v];
+      ASSERT_LE(test::max_abs_diff(Vec3<float>{frame.tx[v], frame.ty[v], frame.tz[v]}, Vec3<float>{float(e.x), float(e.y), float(e.z)}),
+                position_tolerance(1))
+          << "method " << static_cast<int>(m) << " vertex " << v;
+    }
+  }
+  // Animated.
+  ASSERT_FALSE(scene.animations.empty());
+  for (double t : {0.3, 0.7}) {
+    ASSERT_TRUE(pose_at(scene, 0, t * scene.animations[0].animation.duration(), world).ok());
+    for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor}) {
+      const SkinnedFrame frame = skin_scene(scene, world, m);
+      for (std::size_t v = 0; v < frame.size(); ++v) {
+        const Vec3<float> tv{frame.tx[v], frame.ty[v], frame.tz[v]}, nv{frame.nx[v], frame.ny[v], frame.nz[v]};
+        ASSERT_LE(std::abs(norm(tv) - 1), position_tolerance(1)) << "method " << static_cast<int>(m) << " vertex " << v;
+        if (m != SkinningMethod::lbs) {
+          ASSERT_LE(std::abs(dot(tv, nv) - bind_dot[v]), position_tolerance(1)) << "method " << static_cast<int>(m) << " vertex " << v;
+        }
+      }
+    }
+  }
+}
 
 TEST(SkinningFiles, AFrameAllocatesNothing) {
   DQKIT_REQUIRE_MODELS();

@@ -182,6 +182,8 @@ class SceneBuilder {
       for (unsigned v = 0; v < mesh.mNumVertices; ++v) out.positions.push_back({mesh.mVertices[v].x, mesh.mVertices[v].y, mesh.mVertices[v].z});
       if (mesh.mNormals)
         for (unsigned v = 0; v < mesh.mNumVertices; ++v) out.normals.push_back({mesh.mNormals[v].x, mesh.mNormals[v].y, mesh.mNormals[v].z});
+      if (mesh.mNormals && mesh.mTangents)
+        for (unsigned v = 0; v < mesh.mNumVertices; ++v) out.tangents.push_back({mesh.mTangents[v].x, mesh.mTangents[v].y, mesh.mTangents[v].z});
       for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
         const aiFace& face = mesh.mFaces[f];
         if (face.mNumIndices != 3) continue;  // points and lines are not surfaces

@@ -82,7 +82,7 @@ class Reader {
 
 // Smallest encodings, for the counts' first check.
 constexpr std::size_t kJointWire = 8 + sizeof(int) + sizeof(DualQuaternion<double>) + 1;
-constexpr std::size_t kMeshWire = 8 + 7 * 8 + sizeof(int);
+constexpr std::size_t kMeshWire = 8 + 8 * 8 + sizeof(int);
 constexpr std::size_t kAnimationWire = 8 + sizeof(double) + 8 + 8 + 8;
 
 void write_scene(Writer& w, const ImportedScene& s) {
@@ -99,6 +99,7 @@ void write_scene(Writer& w, const ImportedScene& s) {
     w.str(m.name);
     w.vec(m.positions);
     w.vec(m.normals);
+    w.vec(m.tangents);
     w.vec(m.indices);
     w.vec(m.influence_offsets);
     w.vec(m.influences);
@@ -125,6 +126,7 @@ bool consistent(const ImportedScene& s) {
   for (const ImportedMesh& m : s.meshes) {
     if (m.node_joint >= static_cast<int>(joints) || m.node_joint < -1) return false;
     if (!m.normals.empty() && m.normals.size() != m.positions.size()) return false;
+    if (!m.tangents.empty() && m.tangents.size() != m.positions.size()) return false;
     for (std::uint32_t i : m.indices)
       if (i >= m.positions.size()) return false;
     for (std::uint32_t j : m.bone_joints)
@@ -222,7 +224,7 @@ Expected<ImportedScene> decode_response(std::string_view payload, const std::str
   if (!r.vec(s.joint_scale) || !r.count(n, kMeshWire, sizeof(ImportedMesh))) return broken();
   s.meshes.resize(static_cast<std::size_t>(n));
   for (ImportedMesh& m : s.meshes)
-    if (!r.str(m.name) || !r.vec(m.positions) || !r.vec(m.normals) || !r.vec(m.indices) || !r.vec(m.influence_offsets) ||
+    if (!r.str(m.name) || !r.vec(m.positions) || !r.vec(m.normals) || !r.vec(m.tangents) || !r.vec(m.indices) || !r.vec(m.influence_offsets) ||
         !r.vec(m.influences) || !r.vec(m.bone_joints) || !r.vec(m.inverse_bind) || !r.pod(m.node_joint))
       return broken();
   if (!r.count(n, kAnimationWire, sizeof(ImportedAnimation))) return broken();

@@ -11,11 +11,12 @@ namespace dq {
 Expected<SceneSkin> SceneSkin::build(const ImportedScene& scene, const SkinOptions& options) {
   SceneSkin out;
   out.joint_count_ = scene.skeleton.size();
-  out.normals_ = !scene.meshes.empty();
+  out.normals_ = out.tangents_ = !scene.meshes.empty();
   for (const ImportedMesh& mesh : scene.meshes) {
     RawSkin raw;
     raw.positions = mesh.positions;
     raw.normals = mesh.normals;
+    raw.tangents = mesh.tangents;
     raw.triangles = mesh.indices;
     std::vector<std::uint32_t> bone_joints;
     if (mesh.influences.empty()) {
@@ -43,6 +44,7 @@ Expected<SceneSkin> SceneSkin::build(const ImportedScene& scene, const SkinOptio
     Expected<Skin> skin = build_skin(raw, options);
     if (!skin) return Error{"mesh '" + mesh.name + "': " + skin.error().message};
     out.normals_ = out.normals_ && skin->has_normals();
+    out.tangents_ = out.tangents_ && skin->has_tangents();
     for (std::uint32_t t : mesh.indices) out.triangles_.push_back(static_cast<std::uint32_t>(out.vertex_count_ + t));
     out.palettes_.emplace_back(bone_joints.size());
     out.bone_world_.emplace_back(bone_joints.size());
@@ -63,6 +65,8 @@ SkinnedFrame SceneSkin::make_frame() const {
   for (auto* a : {&f.px, &f.py, &f.pz}) a->assign(vertex_count_, 0.0f);
   if (normals_)
     for (auto* a : {&f.nx, &f.ny, &f.nz}) a->assign(vertex_count_, 0.0f);
+  if (tangents_)
+    for (auto* a : {&f.tx, &f.ty, &f.tz}) a->assign(vertex_count_, 0.0f);
   f.triangles = triangles_;
   return f;
 }
@@ -70,7 +74,7 @@ SkinnedFrame SceneSkin::make_frame() const {
 Status SceneSkin::skin(std::span<const DualQuaternion<double>> joint_world, SkinningMethod method, SkinningThreads& threads,
                        SkinnedFrame& frame) {
   DQ_PRECONDITION(joint_world.size() == joint_count_ && frame.size() == vertex_count_ &&
-                      (frame.nx.size() == vertex_count_) == normals_,
+                      (frame.nx.size() == vertex_count_) == normals_ && (frame.tx.size() == vertex_count_) == tangents_,
                   "SceneSkin::skin needs one transform per joint and a frame from make_frame()",
                   Error{"SceneSkin::skin: precondition violated (see the message above)"});
   for (std::size_t i = 0; i < parts_.size(); ++i) {
@@ -81,7 +85,7 @@ Status SceneSkin::skin(std::span<const DualQuaternion<double>> joint_world, Skin
     // The job indexes the skin's vertices from 0: hand it the part's window of the frame.
     const std::size_t n = part.skin.vertex_count();
     auto window = [&](std::vector<float>& a) { return a.empty() ? std::span<float>{} : std::span<float>(a).subspan(part.first_vertex, n); };
-    job.out = {window(frame.px), window(frame.py), window(frame.pz), window(frame.nx), window(frame.ny), window(frame.nz), {}, {}, {}};
+    job.out = {window(frame.px), window(frame.py), window(frame.pz), window(frame.nx), window(frame.ny), window(frame.nz), window(frame.tx), window(frame.ty), window(frame.tz)};
     job.first = 0;
     job.count = n;
     if (Status s = threads.run(job); !s) return Error{"mesh '" + part.name + "': " + s.error().message};

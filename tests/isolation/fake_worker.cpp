@@ -86,9 +86,9 @@ int main() {
     put<std::uint8_t>(p, 0);
     put<std::uint64_t>(p, 1);  // joint_scale
     put<double>(p, 1.0);
-    const std::uint64_t meshes = 14000;
+    const std::uint64_t meshes = 13000;
     put<std::uint64_t>(p, meshes);
-    p.append(meshes * (8 + 7 * 8 + sizeof(int)), '\0');  // empty meshes
+    p.append(meshes * (8 + 8 * 8 + sizeof(int)), '\0');  // empty meshes
     respond(p);
     return 0;
   }

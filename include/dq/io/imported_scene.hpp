@@ -27,6 +27,10 @@ struct ImportedMesh {
   std::string name;
   std::vector<Vec3<float>> positions;
   std::vector<Vec3<float>> normals;                ///< empty if the file has none
+  /// Empty, or one per vertex: the file's tangents (Assimp's aiMesh::mTangents, read where the mesh
+  /// also has normals). The handedness sign (which way the bitangent points) is not kept: skinning
+  /// moves the tangent as a direction, and the bitangent follows as ± n × t.
+  std::vector<Vec3<float>> tangents;
   std::vector<std::uint32_t> indices;              ///< triangles
   std::vector<std::uint32_t> influence_offsets;    ///< vertex v's influences: [offsets[v], offsets[v+1])
   std::vector<SkinInfluence> influences;           ///< empty for a rigid (unskinned) mesh

@@ -26,6 +26,7 @@ namespace dq {
 struct SkinnedFrame {
   std::vector<float> px, py, pz;
   std::vector<float> nx, ny, nz;  ///< empty when some mesh has no normals
+  std::vector<float> tx, ty, tz;  ///< empty when some mesh has no tangents (unit, skinned as directions)
   std::vector<std::uint32_t> triangles;
   std::size_t size() const noexcept { return px.size(); }
   Vec3<float> position(std::size_t v) const { return {px[v], py[v], pz[v]}; }
@@ -39,6 +40,7 @@ class SceneSkin {
   std::size_t vertex_count() const noexcept { return vertex_count_; }
   std::size_t joint_count() const noexcept { return joint_count_; }
   bool has_normals() const noexcept { return normals_; }
+  bool has_tangents() const noexcept { return tangents_; }
   /// Vertices whose weights were renormalized (WeightPolicy::normalize), over all meshes.
   std::size_t renormalized_vertices() const noexcept;
   struct Part {
@@ -62,7 +64,7 @@ class SceneSkin {
   std::vector<std::vector<DualQuaternion<double>>> bone_world_;
   std::vector<std::uint32_t> triangles_;
   std::size_t vertex_count_ = 0, joint_count_ = 0;
-  bool normals_ = false;
+  bool normals_ = false, tangents_ = false;
 };
 
 /// The skeleton's world transforms at `time` seconds of animation `animation` (clamped to its
