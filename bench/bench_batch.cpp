@@ -12,87 +12,29 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
-#include <fstream>
 #include <glm/gtx/dual_quaternion.hpp>
 #include <random>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "dq/interop/eigen.hpp"
 #include "dq/interop/glm.hpp"
 #include "dq/simd/batch.hpp"
+#include "machine.hpp"
 
 namespace {
 
 using namespace dq;
 
-// ---- the machine -----------------------------------------------------------------------------------
+// ---- the machine (bench/machine.hpp) -------------------------------------------------------------------
 
-std::size_t last_level_cache_bytes() {
-  std::size_t best = 0;
-  for (int index = 0; index < 8; ++index) {
-    std::ifstream f("/sys/devices/system/cpu/cpu0/cache/index" + std::to_string(index) + "/size");
-    std::string s;
-    if (!(f >> s)) continue;
-    std::size_t v = std::strtoull(s.c_str(), nullptr, 10);
-    if (s.back() == 'K') v <<= 10;
-    if (s.back() == 'M') v <<= 20;
-    best = std::max(best, v);
-  }
-  return best ? best : std::size_t{32} << 20;
-}
-std::string cpu_model() {
-  std::ifstream f("/proc/cpuinfo");
-  for (std::string line; std::getline(f, line);)
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  return "unknown";
-}
-
-/// Floats per array for the DRAM cases: four times the last-level cache per array.
-std::size_t dram_floats() { return 4 * last_level_cache_bytes() / sizeof(float); }
+using bench::dram_floats;
+using bench::Copy;
+using bench::Triad;
 
 double& copy_bandwidth() {  // bytes/s of the one-thread copy, measured first (the roofline's roof)
   static double b = 0;
   return b;
-}
-
-template <class Body>
-void split(unsigned threads, std::size_t n, Body body) {
-  if (threads <= 1) return body(0, n);
-  std::vector<std::thread> t;
-  const std::size_t chunk = (n + threads - 1) / threads;
-  for (unsigned k = 0; k < threads; ++k) t.emplace_back([&, k] { body(k * chunk, std::min(n, (k + 1) * chunk)); });
-  for (auto& x : t) x.join();
-}
-
-void Copy(benchmark::State& state) {
-  const std::size_t n = dram_floats();
-  const auto threads = static_cast<unsigned>(state.range(0));
-  std::vector<float> a(n, 1.0f), b(n);
-  for (auto _ : state) {
-    split(threads, n, [&](std::size_t lo, std::size_t hi) { std::copy(a.data() + lo, a.data() + hi, b.data() + lo); });
-    benchmark::DoNotOptimize(b.data());
-  }
-  const double bytes = static_cast<double>(state.iterations()) * static_cast<double>(2 * n * sizeof(float));
-  state.SetBytesProcessed(static_cast<int64_t>(bytes));
-  state.counters["array_MB"] = static_cast<double>(n * sizeof(float)) / 1e6;
-}
-
-void Triad(benchmark::State& state) {
-  const std::size_t n = dram_floats();
-  const auto threads = static_cast<unsigned>(state.range(0));
-  std::vector<float> a(n), b(n, 1.0f), c(n, 2.0f);
-  for (auto _ : state) {
-    split(threads, n, [&](std::size_t lo, std::size_t hi) {
-      for (std::size_t i = lo; i < hi; ++i) a[i] = b[i] + 3.0f * c[i];
-    });
-    benchmark::DoNotOptimize(a.data());
-  }
-  state.SetBytesProcessed(static_cast<int64_t>(state.iterations() * 3 * n * sizeof(float)));
 }
 
 /// Peak vector multiply-add rate: 16 independent chains of the widest width this build's
@@ -358,24 +300,13 @@ void ComposeEigenIsometry3f(benchmark::State& state) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::AddCustomContext("cpu_model", cpu_model());
-  benchmark::AddCustomContext("llc_MB", std::to_string(last_level_cache_bytes() >> 20));
+  benchmark::AddCustomContext("cpu_model", bench::cpu_model());
+  benchmark::AddCustomContext("llc_MB", std::to_string(bench::last_level_cache_bytes() >> 20));
   benchmark::AddCustomContext("simd_target", std::string(simd::to_string(simd::best_target())));
   benchmark::Initialize(&argc, argv);
   // The roof: a quick copy measurement before the registered cases (the Copy case reports it too).
-  {
-    const std::size_t n = dram_floats();
-    std::vector<float> a(n, 1.0f), b(n);
-    std::copy(a.begin(), a.end(), b.begin());  // touch the pages
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < 5; ++k) {
-      std::copy(a.begin(), a.end(), b.begin());
-      benchmark::DoNotOptimize(b.data());
-    }
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    copy_bandwidth() = 5.0 * 2 * static_cast<double>(n * sizeof(float)) / s;
-    benchmark::AddCustomContext("copy_GBps_1thread", std::to_string(copy_bandwidth() / 1e9));
-  }
+  copy_bandwidth() = bench::measure_bandwidth(bench::Stream::copy, 1);
+  benchmark::AddCustomContext("copy_GBps_1thread", std::to_string(copy_bandwidth() / 1e9));
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -1,31 +1,59 @@
-// Skinning throughput (vertices per second, positions and normals): dqkit's LBS, DQS and CoR
-// batch jobs on one and two threads, against plain per-vertex GLM implementations of the same
-// three methods (array of structures, glm::mat4 / glm::dualquat / glm::quat palettes) in the same
-// binary. The skin: 65,536 vertices, 4 influences each, 64 bones with random rigid binds and poses.
+// Skinning at the memory limit (issue 12): dqkit's LBS, DQS and CoR batch jobs (the kernel of the
+// instruction set chosen at run time) on one and two threads, positions and normals, against the
+// plain per-vertex GLM code users write (glm::mat4 LBS, glm::dualquat DQS, glm::quat CoR; arrays of
+// structures) in the same binary, and STREAM's triad measured in the same run as the roof.
+//
+// The skin: at least 2^20 vertices and at least four times the last-level cache in bytes (read
+// from the CPU), 4 influences each, 64 bones with random rigid binds and poses. Every GLM variant
+// is checked once, outside the timing, against dqkit's result for the same method.
+// Counters: vertices_per_s; bytes_per_second (the bytes a vertex moves: positions, normals, slot
+// bones and weights in, positions and normals out, CoR's centres; write-allocate reads not counted,
+// as for the triad); roofline = bytes_per_second ÷ the triad's, same thread count.
+//   build/release/bench/bench_skin --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <glm/gtx/norm.hpp>
 #include <glm/gtx/dual_quaternion.hpp>
+#include <glm/gtx/norm.hpp>
 #include <random>
 #include <thread>
 #include <vector>
 
 #include "dq/convert/matrix.hpp"
+#include "dq/simd/batch.hpp"
 #include "dq/skin/skinning.hpp"
+#include "machine.hpp"
 
 namespace {
 
 using namespace dq;
 
-constexpr std::size_t kVertices = 1 << 16;
 constexpr std::uint32_t kBones = 64;
+constexpr std::size_t kInfluences = 4;
+
+/// Bytes a vertex moves: positions and normals in (24), slot bones and weights (8 per slot), positions and
+/// normals out (24), and for CoR the centre (12).
+std::size_t bytes_per_vertex(SkinningMethod m) { return 24 + 8 * kInfluences + 24 + (m == SkinningMethod::cor ? 12 : 0); }
+
+std::size_t vertex_count() {
+  const std::size_t cache = 4 * bench::last_level_cache_bytes() / bytes_per_vertex(SkinningMethod::dqs);
+  return (std::max<std::size_t>(std::size_t{1} << 20, cache) + 15) / 16 * 16;
+}
+
+double& triad_bandwidth(unsigned threads) {  // bytes/s, measured in main before the cases
+  static double b[3] = {};
+  return b[std::min(threads, 2u)];
+}
 
 struct Fixture {
+  std::size_t n = vertex_count();
   Skin skin;  // built in the constructor
   std::vector<DualQuaternion<double>> pose;
-  // GLM's side: the same skin as arrays of structures.
+  SkinPalette palette{kBones};
+  // GLM's side: the same skin (dqkit's canonical influence order, so the same pivot) as arrays of structures.
   std::vector<glm::vec3> positions, normals, centers;
   std::vector<glm::uvec4> joints;
   std::vector<glm::vec4> weights;
@@ -42,10 +70,10 @@ struct Fixture {
     };
     RawSkin raw;
     raw.influence_offsets.push_back(0);
-    for (std::size_t v = 0; v < kVertices; ++v) {
+    for (std::size_t v = 0; v < n; ++v) {
       raw.positions.push_back({float(u(rng)), float(u(rng)), float(u(rng))});
       raw.normals.push_back(normalized(Vec3<float>{float(u(rng)), float(u(rng)), float(u(rng)) + 2}));
-      float w[4], sum = 0;
+      float w[kInfluences], sum = 0;
       for (float& x : w) sum += (x = float(u(rng)) + 1.1f);
       for (float& x : w) raw.influences.push_back({static_cast<std::uint32_t>(rng() % kBones), x / sum});
       raw.influence_offsets.push_back(static_cast<std::uint32_t>(raw.influences.size()));
@@ -59,13 +87,16 @@ struct Fixture {
     skin = *build_skin(raw);
     pose.resize(kBones);
     for (auto& p : pose) p = rigid();
-    for (std::size_t v = 0; v < kVertices; ++v) {
-      positions.emplace_back(raw.positions[v].x, raw.positions[v].y, raw.positions[v].z);
-      normals.emplace_back(raw.normals[v].x, raw.normals[v].y, raw.normals[v].z);
-      centers.push_back(positions.back());
+    update_palette(skin, pose, palette);
+    const auto slot_bones = skin.slot_bones();
+    const auto slot_weights = skin.slot_weights();
+    for (std::size_t v = 0; v < n; ++v) {
+      positions.emplace_back(skin.px()[v], skin.py()[v], skin.pz()[v]);
+      normals.emplace_back(skin.nx()[v], skin.ny()[v], skin.nz()[v]);
+      centers.emplace_back(skin.cx()[v], skin.cy()[v], skin.cz()[v]);
       glm::uvec4 j;
       glm::vec4 w;
-      for (int k = 0; k < 4; ++k) j[k] = raw.influences[4 * v + static_cast<std::size_t>(k)].bone, w[k] = raw.influences[4 * v + static_cast<std::size_t>(k)].weight;
+      for (std::size_t k = 0; k < kInfluences; ++k) j[int(k)] = slot_bones[k * n + v], w[int(k)] = slot_weights[k * n + v];
       joints.push_back(j);
       weights.push_back(w);
     }
@@ -88,32 +119,49 @@ Fixture& fixture() {
   return f;
 }
 
+/// dqkit's output: positions and normals, component arrays.
+struct Output {
+  std::vector<float> c[6];
+  explicit Output(std::size_t n) {
+    for (auto& x : c) x.assign(n, 0.0f);
+  }
+  SkinnedVertices view() { return {c[0], c[1], c[2], c[3], c[4], c[5], {}, {}, {}}; }
+};
+
+void report(benchmark::State& state, SkinningMethod method, unsigned threads) {
+  const double vertices = static_cast<double>(state.iterations()) * static_cast<double>(fixture().n);
+  state.counters["vertices_per_s"] = benchmark::Counter(vertices, benchmark::Counter::kIsRate);
+  const double bytes = vertices * static_cast<double>(bytes_per_vertex(method));
+  state.SetBytesProcessed(static_cast<std::int64_t>(bytes));
+  if (triad_bandwidth(threads) > 0) state.counters["roofline"] = benchmark::Counter(bytes / triad_bandwidth(threads), benchmark::Counter::kIsRate);
+}
+
 void dqkit_skinning(benchmark::State& state, SkinningMethod method) {
   Fixture& f = fixture();
-  const Skin& skin = f.skin;
-  SkinPalette palette(kBones);
-  update_palette(skin, f.pose, palette);
-  std::vector<float> out(6 * kVertices);
-  std::span<float> o(out);
-  const SkinnedVertices vertices{o.subspan(0, kVertices), o.subspan(kVertices, kVertices), o.subspan(2 * kVertices, kVertices),
-                                 o.subspan(3 * kVertices, kVertices), o.subspan(4 * kVertices, kVertices), o.subspan(5 * kVertices, kVertices),
-                                 {}, {}, {}};
-  SkinningThreads threads(static_cast<unsigned>(state.range(0)));
+  Output out(f.n);
+  const auto threads = static_cast<unsigned>(state.range(0));
+  SkinningThreads pool(threads);
+  state.SetLabel(std::string(simd::to_string(simd::current_target())));
   for (auto _ : state) {
-    if (!threads.run({&skin, &palette, method, vertices, 0, kVertices})) state.SkipWithError("job does not validate");
-    benchmark::DoNotOptimize(out.data());
+    if (!pool.run({&f.skin, &f.palette, method, out.view(), 0, f.n})) state.SkipWithError("job does not validate");
+    benchmark::DoNotOptimize(out.c[0].data());
     benchmark::ClobberMemory();
   }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kVertices));
+  report(state, method, threads);
 }
 
 // ---- plain per-vertex GLM ------------------------------------------------------------------
 
+/// LBS's blended matrix at vertex v, as glm_lbs_range computes it.
+glm::mat4 lbs_matrix(const Fixture& f, std::size_t v) {
+  const glm::uvec4 j = f.joints[v];
+  const glm::vec4 w = f.weights[v];
+  return f.matrices[j.x] * w.x + f.matrices[j.y] * w.y + f.matrices[j.z] * w.z + f.matrices[j.w] * w.w;
+}
+
 void glm_lbs_range(const Fixture& f, std::vector<glm::vec3>& p, std::vector<glm::vec3>& n, std::size_t b, std::size_t e) {
   for (std::size_t v = b; v < e; ++v) {
-    const glm::uvec4 j = f.joints[v];
-    const glm::vec4 w = f.weights[v];
-    const glm::mat4 m = f.matrices[j.x] * w.x + f.matrices[j.y] * w.y + f.matrices[j.z] * w.z + f.matrices[j.w] * w.w;
+    const glm::mat4 m = lbs_matrix(f, v);
     p[v] = glm::vec3(m * glm::vec4(f.positions[v], 1));
     n[v] = glm::normalize(glm::transpose(glm::inverse(glm::mat3(m))) * f.normals[v]);
   }
@@ -148,39 +196,74 @@ void glm_cor_range(const Fixture& f, std::vector<glm::vec3>& p, std::vector<glm:
       q = q + r * (glm::dot(r, q0) < 0 ? -w[k] : w[k]);
     }
     q = glm::normalize(q);
-    const glm::mat4 m = f.matrices[j.x] * w.x + f.matrices[j.y] * w.y + f.matrices[j.z] * w.z + f.matrices[j.w] * w.w;
+    const glm::mat4 m = lbs_matrix(f, v);
     const glm::vec3 c = f.centers[v];
     p[v] = q * (f.positions[v] - c) + glm::vec3(m * glm::vec4(c, 1));
     n[v] = q * f.normals[v];
   }
 }
 
+/// Whether GLM's positions and normals are dqkit's for the same method (float rounding apart).
+/// LBS normals: GLM's inverse transpose and dqkit's cofactor matrix differ by the factor det, so
+/// they point opposite ways where a blend of rotations has a negative determinant.
+bool same_result(const Fixture& f, SkinningMethod method, const std::vector<glm::vec3>& p, const std::vector<glm::vec3>& n) {
+  Output out(f.n);
+  SkinningThreads pool(1);
+  if (!pool.run({&f.skin, &f.palette, method, out.view(), 0, f.n})) return false;
+  for (std::size_t v = 0; v < f.n; ++v) {
+    const glm::vec3 dp(out.c[0][v], out.c[1][v], out.c[2][v]), dn(out.c[3][v], out.c[4][v], out.c[5][v]);
+    const float sign = method == SkinningMethod::lbs && glm::determinant(glm::mat3(lbs_matrix(f, v))) < 0 ? -1.0f : 1.0f;
+    // Coordinates up to about 4 (|p| ≤ √3, translations ≤ √3 twice); normals unit.
+    if (!(glm::length(dp - p[v]) <= 1e-4f && glm::length(dn - sign * n[v]) <= 1e-4f)) return false;
+  }
+  return true;
+}
+
 template <void (*Range)(const Fixture&, std::vector<glm::vec3>&, std::vector<glm::vec3>&, std::size_t, std::size_t)>
-void glm_skinning(benchmark::State& state) {
+void glm_skinning(benchmark::State& state, SkinningMethod method) {
   const Fixture& f = fixture();
-  std::vector<glm::vec3> p(kVertices), n(kVertices);
-  const auto threads = static_cast<std::size_t>(state.range(0));
+  std::vector<glm::vec3> p(f.n), n(f.n);
+  const auto threads = static_cast<unsigned>(state.range(0));
   for (auto _ : state) {
     if (threads == 1) {
-      Range(f, p, n, 0, kVertices);
+      Range(f, p, n, 0, f.n);
     } else {
       // One extra thread started per frame (what a plain implementation does).
-      std::jthread other([&] { Range(f, p, n, kVertices / 2, kVertices); });
-      Range(f, p, n, 0, kVertices / 2);
+      std::jthread other([&] { Range(f, p, n, f.n / 2, f.n); });
+      Range(f, p, n, 0, f.n / 2);
     }
     benchmark::DoNotOptimize(p.data());
     benchmark::ClobberMemory();
   }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kVertices));
+  if (!same_result(f, method, p, n)) state.SkipWithError("GLM and dqkit disagree");
+  report(state, method, threads);
 }
 
-BENCHMARK_CAPTURE(dqkit_skinning, lbs, SkinningMethod::lbs)->Arg(1)->Arg(2)->UseRealTime();
-BENCHMARK_CAPTURE(dqkit_skinning, dqs, SkinningMethod::dqs)->Arg(1)->Arg(2)->UseRealTime();
-BENCHMARK_CAPTURE(dqkit_skinning, cor, SkinningMethod::cor)->Arg(1)->Arg(2)->UseRealTime();
-BENCHMARK(glm_skinning<glm_lbs_range>)->Name("glm_lbs")->Arg(1)->Arg(2)->UseRealTime();
-BENCHMARK(glm_skinning<glm_dqs_range>)->Name("glm_dqs")->Arg(1)->Arg(2)->UseRealTime();
-BENCHMARK(glm_skinning<glm_cor_range>)->Name("glm_cor")->Arg(1)->Arg(2)->UseRealTime();
+void glm_lbs(benchmark::State& s) { glm_skinning<glm_lbs_range>(s, SkinningMethod::lbs); }
+void glm_dqs(benchmark::State& s) { glm_skinning<glm_dqs_range>(s, SkinningMethod::dqs); }
+void glm_cor(benchmark::State& s) { glm_skinning<glm_cor_range>(s, SkinningMethod::cor); }
 
 }  // namespace
 
-BENCHMARK_MAIN();
+BENCHMARK(dq::bench::Triad)->Name("Triad")->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK_CAPTURE(dqkit_skinning, lbs, SkinningMethod::lbs)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK_CAPTURE(dqkit_skinning, dqs, SkinningMethod::dqs)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK_CAPTURE(dqkit_skinning, cor, SkinningMethod::cor)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK(glm_lbs)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK(glm_dqs)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK(glm_cor)->Arg(1)->Arg(2)->UseRealTime();
+
+int main(int argc, char** argv) {
+  benchmark::AddCustomContext("cpu_model", dq::bench::cpu_model());
+  benchmark::AddCustomContext("llc_MB", std::to_string(dq::bench::last_level_cache_bytes() >> 20));
+  benchmark::AddCustomContext("simd_target", std::string(dq::simd::to_string(dq::simd::best_target())));
+  benchmark::AddCustomContext("vertices", std::to_string(vertex_count()));
+  benchmark::Initialize(&argc, argv);
+  for (unsigned t : {1u, 2u}) {
+    triad_bandwidth(t) = dq::bench::measure_bandwidth(dq::bench::Stream::triad, t);
+    benchmark::AddCustomContext("triad_GBps_" + std::to_string(t) + "thread", std::to_string(triad_bandwidth(t) / 1e9));
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
