@@ -147,6 +147,10 @@ template <class V>
   return {r0.x * n.x + r1.x * n.y + r2.x * n.z, r0.y * n.x + r1.y * n.y + r2.y * n.z, r0.z * n.x + r1.z * n.y + r2.z * n.z};
 }
 
+/// How far ahead of the vertex being skinned the vector kernels prefetch, in vertices (4 KB per
+/// stream: at least one memory latency of work ahead at the measured rates).
+constexpr std::size_t kPrefetchAhead = 1024;
+
 /// What a kernel reads and writes, resolved once per range.
 struct Streams {
   std::size_t n, slots;
@@ -154,7 +158,7 @@ struct Streams {
   const float *weight, *mats, *dqs, *scales;
   const float *px, *py, *pz, *nx, *ny, *nz, *tx, *ty, *tz, *cx, *cy, *cz;
   float *opx, *opy, *opz, *onx, *ony, *onz, *otx, *oty, *otz;
-  bool normals, tangents, scaled;
+  bool normals, tangents, scaled, centers;
   Streams(const Skin& skin, const SkinPalette& pal, const SkinnedVertices& out, SkinningMethod m)
       : n(skin.vertex_count()), slots(skin.slots()), bone(skin.slot_bones().data()), weight(skin.slot_weights().data()),
         mats(pal.matrices.data()), dqs(pal.dual_quaternions.data()), scales(pal.scale_shear.data()),
@@ -163,7 +167,32 @@ struct Streams {
         opx(out.px.data()), opy(out.py.data()), opz(out.pz.data()), onx(out.nx.data()), ony(out.ny.data()), onz(out.nz.data()),
         otx(out.tx.data()), oty(out.ty.data()), otz(out.tz.data()), normals(!out.nx.empty()), tangents(!out.tx.empty()),
         // The linear phase (Kavan's two-phase method) is needed by DQS and CoR only when a bind scales.
-        scaled(m != SkinningMethod::lbs && skin.has_scale_shear()) {}
+        scaled(m != SkinningMethod::lbs && skin.has_scale_shear()), centers(m == SkinningMethod::cor) {}
+
+  /// Asks for the cache lines of vertex v in every stream the kernel reads and writes. With some
+  /// twenty streams (a vertex's coordinates, normals and slots, and the outputs) the hardware
+  /// prefetchers fall behind, and measured at 1M vertices the kernels are then well below the
+  /// memory's bandwidth (docs/skinning.md).
+  void prefetch(std::size_t v) const {
+    auto read = [v](const float* p) { __builtin_prefetch(p + v, 0, 3); };
+    auto write = [v](float* p) { __builtin_prefetch(p + v, 1, 3); };
+    for (const float* p : {px, py, pz}) read(p);
+    for (float* p : {opx, opy, opz}) write(p);
+    if (normals) {
+      for (const float* p : {nx, ny, nz}) read(p);
+      for (float* p : {onx, ony, onz}) write(p);
+    }
+    if (tangents) {
+      for (const float* p : {tx, ty, tz}) read(p);
+      for (float* p : {otx, oty, otz}) write(p);
+    }
+    if (centers)
+      for (const float* p : {cx, cy, cz}) read(p);
+    for (std::size_t k = 0; k < slots; ++k) {
+      __builtin_prefetch(bone + k * n + v, 0, 3);
+      read(weight + k * n);
+    }
+  }
 };
 
 /// One vertex per call: the scalar path.
@@ -366,7 +395,10 @@ struct VectorLanes {
 template <SkinningMethod M, int N>
 [[gnu::always_inline]] inline void skin_vectors(const Streams& s, std::size_t b, std::size_t e) {
   std::size_t v = b;
-  for (; v + N <= e; v += N) skin_block<M, 0, VectorLanes<N>>(s, v);
+  for (; v + N <= e; v += N) {
+    if ((v - b) % 16 == 0 && v + kPrefetchAhead < e) s.prefetch(v + kPrefetchAhead);
+    skin_block<M, 0, VectorLanes<N>>(s, v);
+  }
   for (; v < e; ++v) skin_block<M, 0, ScalarLanes>(s, v);
 }
 
