@@ -15,13 +15,14 @@ Expected<KinematicModel> KinematicModel::build(Skeleton skeleton, std::vector<Do
   std::size_t parameters = 0;
   int previous_joint = 0;
   for (std::size_t d = 0; d < dofs.size(); ++d) {
-    const Dof& dof = dofs[d];
+    Dof& dof = dofs[d];
     const std::string where = "DOF " + std::to_string(d) + (dof.name.empty() ? "" : " (" + dof.name + ")");
     if (dof.joint < 0 || static_cast<std::size_t>(dof.joint) >= joints) return Error{where + ": joint index out of range"};
     if (dof.joint < previous_joint) return Error{where + ": DOFs must come in joint order"};
     if (dof.type == DofType::revolute || dof.type == DofType::prismatic) {
       const double n = norm(dof.axis);
       if (!(std::abs(n - 1) <= 1e-12)) return Error{where + ": the axis is not unit"};
+      dof.axis = dof.axis / n;  // unit to rounding: revolute_rotation relies on it
     }
     previous_joint = dof.joint;
     m.offsets_.push_back(parameters);

@@ -97,10 +97,10 @@ void screw_jacobian(const KinematicModel& model, std::span<const T> q, std::span
           frame = frame * Ops::translation({p[0], p[1], p[2]});
           col += 3;
           ball(p + 3);
-          frame = frame * Ops::rotation(Quaternion<T>::from_rotation_vector({p[3], p[4], p[5]}));
+          frame = Ops::rotated(frame, Quaternion<T>::from_rotation_vector({p[3], p[4], p[5]}));
           continue;
       }
-      frame = frame * dof_transform<X>(dof, p);
+      frame = then_dof(frame, dof, p);
     }
     world[j] = frame;
   }

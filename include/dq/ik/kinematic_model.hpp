@@ -35,7 +35,7 @@ constexpr std::size_t parameter_count(DofType t) noexcept {
 struct Dof {
   int joint = 0;                    ///< runtime joint index
   DofType type = DofType::revolute;
-  Vec3<double> axis{1, 0, 0};       ///< unit axis in the joint's frame (revolute, prismatic)
+  Vec3<double> axis{1, 0, 0};       ///< unit axis in the joint's frame (revolute, prismatic; normalized by build)
   std::string name;
 };
 
@@ -101,6 +101,8 @@ struct TransformOps<DualQuaternion<T>> {
     return {Quaternion<T>(T(q.real.w), T(q.real.x), T(q.real.y), T(q.real.z)),
             Quaternion<T>(T(q.dual.w), T(q.dual.x), T(q.dual.y), T(q.dual.z))};
   }
+  /// x · rotation(r), without the products by the rotation's zero dual part.
+  static X rotated(const X& x, const Quaternion<T>& r) { return {x.real * r, x.dual * r}; }
   static Vec3<T> rotate(const X& x, const Vec3<T>& v) { return x.real.rotate(v); }
   static Vec3<T> origin(const X& x) { return x.translation(); }
   static Vec3<T> apply(const X& x, const Vec3<T>& p) { return x.transform_point(p); }
@@ -118,6 +120,14 @@ struct TransformOps<Mat4<T>> {
     const Quaternion<T> r(T(q.real.w), T(q.real.x), T(q.real.y), T(q.real.z));
     const Vec3<double> t = q.translation();
     return embed(r.to_matrix(), {T(t.x), T(t.y), T(t.z)});
+  }
+  /// x · rotation(r): the 3x3 block times r's matrix; the translation column is unchanged.
+  static X rotated(const X& x, const Quaternion<T>& r) {
+    const Mat3<T> m = r.to_matrix();
+    X out = x;
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) out(i, k) = x(i, 0) * m(0, k) + x(i, 1) * m(1, k) + x(i, 2) * m(2, k);
+    return out;
   }
   static Vec3<T> rotate(const X& x, const Vec3<T>& v) {
     return {x(0, 0) * v.x + x(0, 1) * v.y + x(0, 2) * v.z, x(1, 0) * v.x + x(1, 1) * v.y + x(1, 2) * v.z,
@@ -150,18 +160,27 @@ Vec3<T> axis_as(const Vec3<double>& a) {
 }
 }  // namespace detail
 
-/// The transform of DOF d for its parameters p (p[0], or p[0..2] for a ball, p[0..5] for free).
+/// The rotation by `angle` about the unit `axis`: (cos ½angle, axis sin ½angle), one sine and
+/// cosine (the exponential map of angle·axis, written for a unit axis).
+template <class T>
+Quaternion<T> revolute_rotation(const Vec3<double>& axis, const T& angle) {
+  const auto sc = detail::sin_cos(angle * T(0.5));
+  return {sc.cos, detail::axis_as<T>(axis) * sc.sin};
+}
+
+/// x · D, where D is DOF d's transform for its parameters p (p[0], or p[0..2] for a ball, p[0..5]
+/// for free): a rotation is applied without the products by its zero dual part.
 template <class X, class T>
-X dof_transform(const Dof& d, const T* p) {
+X then_dof(const X& x, const Dof& d, const T* p) {
   using Ops = TransformOps<X>;
   switch (d.type) {
-    case DofType::revolute: return Ops::rotation(Quaternion<T>::from_rotation_vector(detail::axis_as<T>(d.axis) * p[0]));
-    case DofType::prismatic: return Ops::translation(detail::axis_as<T>(d.axis) * p[0]);
-    case DofType::ball: return Ops::rotation(Quaternion<T>::from_rotation_vector({p[0], p[1], p[2]}));
+    case DofType::revolute: return Ops::rotated(x, revolute_rotation(d.axis, p[0]));
+    case DofType::prismatic: return x * Ops::translation(detail::axis_as<T>(d.axis) * p[0]);
+    case DofType::ball: return Ops::rotated(x, Quaternion<T>::from_rotation_vector({p[0], p[1], p[2]}));
     case DofType::free:
-      return Ops::translation({p[0], p[1], p[2]}) * Ops::rotation(Quaternion<T>::from_rotation_vector({p[3], p[4], p[5]}));
+      return Ops::rotated(x * Ops::translation({p[0], p[1], p[2]}), Quaternion<T>::from_rotation_vector({p[3], p[4], p[5]}));
   }
-  return Ops::translation({T(0), T(0), T(0)});
+  return x;
 }
 
 /// Local transforms of every joint for parameters q. Preconditions: q has model.parameters()
@@ -176,7 +195,7 @@ void local_transforms(const KinematicModel& model, std::span<const T> q, std::sp
   for (std::size_t j = 0; j < joints; ++j) {
     X x = Ops::from(model.skeleton().rest_pose()[j]);
     for (std::size_t d = model.joint_dofs_begin(j); d < model.joint_dofs_begin(j + 1); ++d)
-      x = x * dof_transform<X>(dofs[d], q.data() + model.offset(d));
+      x = then_dof(x, dofs[d], q.data() + model.offset(d));
     local[j] = x;
   }
 }

@@ -76,7 +76,7 @@ struct IkOptions {
   int max_restarts = 10;                 ///< random restarts (within limits) out of local minima
   double position_tolerance = 1e-10;     ///< metres (model units)
   double orientation_tolerance = 1e-10;  ///< radians
-  double initial_damping = 1e-3;         ///< λ of the first step (adapted after every step)
+  double initial_damping = 1e-3;         ///< λ of the first step, plus 0.1 × Σ w |r|² there (adapted after every step)
   double rest_weight = 0;                ///< secondary objective: pull towards `rest` in the null space
   std::uint64_t seed = 1;                ///< restarts are pseudo-random from this (reproducible)
   std::size_t max_rows = 36;             ///< the most task rows a solve may have (workspace size)
