@@ -1,8 +1,13 @@
-// A consumer of dqkit: the algebra (header-only), a skeleton (dqkit::anim), BVH (dqkit::io) and,
-// when built with DQKIT_CONSUMER_IMPORT, an isolated import of the file given as argument
+// A consumer of dqkit: the algebra (header-only), a skeleton (dqkit::anim), BVH (dqkit::io), a
+// skin (dqkit::skin), when built with DQKIT_CONSUMER_RENDER a headless picture (dqkit::render)
+// and, with DQKIT_CONSUMER_IMPORT, an isolated import of the file given as argument
 // (dqkit::import; the worker is looked up as an installed program would).
 #include <dq/dq.hpp>
 #include <dq/io/bvh.hpp>
+#include <dq/skin/shapes.hpp>
+#ifdef DQKIT_CONSUMER_RENDER
+#include <dq/render/render.hpp>
+#endif
 #ifdef DQKIT_CONSUMER_IMPORT
 #include <dq/io/scene.hpp>
 #endif
@@ -23,6 +28,24 @@ int main(int argc, char** argv) {
   const auto bvh = dq::read_bvh("HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n"
                                 "End Site\n{\nOFFSET 0 1 0\n}\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n90 0 0\n");
   if (!bvh || !dq::bvh_skeleton(*bvh)) return 3;
+  const dq::CylinderShape cylinder;
+  const auto skin = dq::build_skin(dq::two_bone_cylinder(cylinder));
+  if (!skin || skin->vertex_count() != static_cast<std::size_t>(cylinder.rings * cylinder.segments + 2)) return 5;
+#ifdef DQKIT_CONSUMER_RENDER
+  // A triangle over the image's centre, seen head-on: the centre pixel takes its colour.
+  auto renderer = dq::render::Renderer::create({.width = 64, .height = 64, .samples = 1});
+  if (!renderer) {
+    std::printf("%s\n", renderer.error().message.c_str());
+    return 6;
+  }
+  dq::render::Scene scene;
+  scene.meshes.push_back({.positions = {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}}, .triangles = {0, 1, 2}, .color = {1, 0, 0, 1}});
+  renderer->clear();
+  renderer->draw(scene, dq::render::Camera{.distance = 3, .yaw = 0, .pitch = 0});
+  const auto centre = renderer->read().pixel(32, 32);
+  if (!(centre[0] > 100 && centre[1] < 60 && centre[2] < 60)) return 7;
+  std::printf("rendered\n");
+#endif
 #ifdef DQKIT_CONSUMER_IMPORT
   if (argc > 1) {
     const dq::Expected<dq::ImportedScene> scene = dq::import_scene(argv[1]);
