@@ -1,5 +1,6 @@
 #include "common.hpp"
 
+#include <cctype>
 #include <cstdio>
 #include <iostream>
 
@@ -9,11 +10,16 @@
 #include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
-#define GL_GLEXT_PROTOTYPES
-#include <GL/glcorearb.h>
 #endif
 
 namespace dq::apps {
+
+namespace {
+void draw(render::Renderer& renderer, const std::vector<demo::View>& views) {
+  renderer.clear();
+  for (const demo::View& v : views) renderer.draw(v.scene, v.camera, v.viewport);
+}
+}  // namespace
 
 void add_options(CLI::App& app, Options& o) {
   app.add_flag("--headless", o.headless, "Render frames to PNG without a display (EGL), then exit");
@@ -24,6 +30,33 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--quit-after", o.quit_after, "Window: close after this many frames (0: never)")->check(CLI::NonNegativeNumber);
   app.add_option("--screenshot", o.screenshot, "Window: write the last image shown to this PNG on exit");
 }
+
+bool Playback::apply(const std::string& typed) {
+  bool restart = false;
+  for (char c : clicked_ + typed) {
+    const char key = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (key == ' ') paused = !paused;
+    if (key == 'n') ++frame, paused = true;
+    if (key == 'r') frame = 0, restart = true;
+  }
+  clicked_.clear();
+  return restart;
+}
+
+#if defined(DQKIT_DEMO_WINDOW)
+void Playback::panel() {
+  if (ImGui::Button(paused ? "Play" : "Pause")) clicked_ += ' ';
+  ImGui::SameLine();
+  if (ImGui::Button("Step")) clicked_ += 'n';
+  ImGui::SameLine();
+  if (ImGui::Button("Restart")) clicked_ += 'r';
+  ImGui::SameLine();
+  ImGui::Text("frame %d", frame);
+  ImGui::TextWrapped("Keys: Space pause, N step, R restart, Esc quit.");
+}
+#else
+void Playback::panel() {}
+#endif
 
 int run_headless(const Options& o, const std::function<std::vector<demo::View>(int)>& views) {
   render::RenderOptions ro;
@@ -41,8 +74,7 @@ int run_headless(const Options& o, const std::function<std::vector<demo::View>(i
     return 1;
   }
   for (int f = 0; f < o.frames; ++f) {
-    renderer->clear();
-    for (const demo::View& v : views(f)) renderer->draw(v.scene, v.camera, v.viewport);
+    draw(*renderer, views(f));
     char name[32];
     std::snprintf(name, sizeof name, "frame_%04d.png", f);
     if (const Status s = renderer->read().write_png(o.out / name); !s) {
@@ -55,114 +87,46 @@ int run_headless(const Options& o, const std::function<std::vector<demo::View>(i
 }
 
 #if defined(DQKIT_DEMO_WINDOW)
-int run_window(const Options& o, const char* title,
-               const std::function<std::vector<demo::View>(const Input&, render::Renderer&)>& frame) {
-  // The image comes from the headless renderer (EGL); the window's context (GLX) only shows it.
-  // A thread has one current context across both APIs: the window's is released while the
-  // renderer draws.
+int run_window(const Options& o, const char* title, const std::function<std::vector<demo::View>(const render::WindowInput&)>& frame) {
   render::RenderOptions ro;
   ro.width = o.width;
   ro.height = o.height;
-  auto renderer = render::Renderer::create(ro);
+  auto renderer = render::Renderer::create_window(ro, title);
   if (!renderer) {
-    std::cerr << "error: no renderer: " << renderer.error().message << "\n";
+    std::cerr << "error: " << renderer.error().message << " (use --headless without a display)\n";
     return 1;
   }
-  if (!glfwInit()) {
-    std::cerr << "error: no display for a window (GLFW could not initialize); use --headless\n";
-    return 1;
-  }
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  glfwWindowHint(GLFW_CONTEXT_CREATION_API, GLFW_EGL_CONTEXT_API);  // as the renderer: one API switching contexts
-  GLFWwindow* window = glfwCreateWindow(o.width, o.height, title, nullptr, nullptr);
-  if (!window) {
-    std::cerr << "error: could not open an OpenGL 3.3 window\n";
-    glfwTerminate();
-    return 1;
-  }
-  glfwMakeContextCurrent(window);
-  glfwSwapInterval(1);
+  // ImGui in the renderer's window and context (current after create_window), its callbacks
+  // chained to the renderer's.
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;
-  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplGlfw_InitForOpenGL(static_cast<GLFWwindow*>(renderer->native_window()), true);
   ImGui_ImplOpenGL3_Init("#version 330");
-  Input input;
-  glfwSetWindowUserPointer(window, &input);
-  glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
-    ImGui_ImplGlfw_KeyCallback(w, key, scancode, action, mods);
-    if (action == GLFW_PRESS && !ImGui::GetIO().WantCaptureKeyboard) static_cast<Input*>(glfwGetWindowUserPointer(w))->keys.push_back(key);
-  });
-
-  GLuint texture = 0;
-  glGenTextures(1, &texture);
-  render::Image image;
-  bool pressed = false;
-  double press_x = 0, press_y = 0, last_x = 0, last_y = 0, dragged = 0;
-  for (int count = 0; !glfwWindowShouldClose(window) && (o.quit_after == 0 || count < o.quit_after); ++count) {
-    glfwPollEvents();
-    glfwMakeContextCurrent(window);
+  const auto draw_imgui = [] {
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  };
+  bool open = true;
+  for (int count = 0; open && (o.quit_after == 0 || count < o.quit_after); ++count) {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    // The mouse, in image pixels (the image fills the window).
-    double mx = 0, my = 0;
-    int ww = 1, wh = 1;
-    glfwGetCursorPos(window, &mx, &my);
-    glfwGetWindowSize(window, &ww, &wh);
-    input.mouse_x = mx * o.width / std::max(ww, 1);
-    input.mouse_y = my * o.height / std::max(wh, 1);
-    const bool down = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS && !ImGui::GetIO().WantCaptureMouse;
-    input.clicked = false;
-    input.drag_x = input.drag_y = 0;
-    if (down && !pressed) press_x = last_x = input.mouse_x, press_y = last_y = input.mouse_y, dragged = 0;
-    if (down) {
-      input.drag_x = input.mouse_x - last_x, input.drag_y = input.mouse_y - last_y;
-      dragged += std::abs(input.drag_x) + std::abs(input.drag_y);
-      last_x = input.mouse_x, last_y = input.mouse_y;
-    }
-    if (!down && pressed && dragged < 4) input.clicked = true;
-    pressed = down;
-    (void)press_x, (void)press_y;
-
-    const std::vector<demo::View> views = frame(input, *renderer);
-    input.keys.clear();
-    glfwMakeContextCurrent(nullptr);
-    renderer->clear();
-    for (const demo::View& v : views) renderer->draw(v.scene, v.camera, v.viewport);
-    image = renderer->read();
-    glfwMakeContextCurrent(window);
-    glBindTexture(GL_TEXTURE_2D, texture);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
-    // The image as the window's background (top row first, as ImGui's UVs).
-    ImGui::GetBackgroundDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(texture)), {0, 0},
-                                             ImGui::GetIO().DisplaySize);
-    ImGui::Render();
-    int fw = 0, fh = 0;
-    glfwGetFramebufferSize(window, &fw, &fh);
-    glViewport(0, 0, fw, fh);
-    glClearColor(1, 1, 1, 1);
-    glClear(GL_COLOR_BUFFER_BIT);
-    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-    glfwSwapBuffers(window);
+    render::WindowInput input = renderer->input();
+    if (ImGui::GetIO().WantCaptureMouse) input.drag_x = input.drag_y = input.wheel = 0, input.clicked = false;
+    draw(*renderer, frame(input));
+    open = renderer->present(draw_imgui);
   }
   int code = 0;
   if (!o.screenshot.empty())
-    if (const Status s = image.write_png(o.screenshot); !s) std::cerr << "error: " << s.error().message << "\n", code = 1;
-  glDeleteTextures(1, &texture);
+    if (const Status s = renderer->read().write_png(o.screenshot); !s) std::cerr << "error: " << s.error().message << "\n", code = 1;
   ImGui_ImplOpenGL3_Shutdown();
   ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
-  glfwDestroyWindow(window);
-  glfwTerminate();
   return code;
 }
 #else
-int run_window(const Options&, const char*, const std::function<std::vector<demo::View>(const Input&, render::Renderer&)>&) {
+int run_window(const Options&, const char*, const std::function<std::vector<demo::View>(const render::WindowInput&)>&) {
   std::cerr << "error: built without GLFW and Dear ImGui (libglfw3-dev, libimgui-dev): only --headless\n";
   return 1;
 }

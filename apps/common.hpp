@@ -1,6 +1,6 @@
 // What the three demo programs share: their command line, the headless run (frames to PNG through
-// dqkit::render), and the interactive window (GLFW + Dear ImGui) that shows the same renderer's
-// image as a texture, with ImGui controls beside it.
+// dqkit::render), and the interactive window: the renderer's own window (Renderer::create_window)
+// with Dear ImGui drawn over the image in the same OpenGL context.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -20,7 +20,7 @@ struct Options {
   std::filesystem::path out = "frames";
   int width = 800, height = 600;
   int quit_after = 0;  ///< interactive: close after this many frames (0: never), for scripted tests
-  std::filesystem::path screenshot;  ///< interactive: write the last shown image here on exit
+  std::filesystem::path screenshot;  ///< interactive: write the last image drawn (without ImGui) here on exit
 };
 
 /// Adds --headless, --frames, --out, --width, --height, --quit-after, --screenshot.
@@ -30,18 +30,30 @@ void add_options(CLI::App& app, Options& options);
 /// Returns the process's exit code (errors printed).
 int run_headless(const Options& options, const std::function<std::vector<demo::View>(int frame)>& views);
 
-/// Input of one window frame: the mouse in image pixels, and what happened since the last frame.
-struct Input {
-  double mouse_x = 0, mouse_y = 0;
-  bool clicked = false;             ///< left button released without a drag
-  double drag_x = 0, drag_y = 0;    ///< left-button drag, pixels
-  std::vector<int> keys;            ///< GLFW key codes pressed
-};
-
-/// A window showing the renderer's image, with an ImGui panel. `frame` is called once per window
-/// frame with the input; it draws with the renderer and its ImGui widgets (between NewFrame and
-/// Render, which the window calls). Returns the exit code.
+/// The renderer's window with Dear ImGui over the image. `frame` is called once per window frame
+/// with what the user did during the previous one (mouse input over an ImGui window removed); it
+/// makes its ImGui widgets (the window calls NewFrame before and renders them over the image after)
+/// and returns the views to draw. Closes on Escape, when the window is closed, or after
+/// options.quit_after frames. Returns the exit code (errors printed).
 int run_window(const Options& options, const char* title,
-               const std::function<std::vector<demo::View>(const Input& input, render::Renderer& renderer)>& frame);
+               const std::function<std::vector<demo::View>(const render::WindowInput& input)>& frame);
+
+/// The frame an animated demo shows in a window: it advances by one per window frame unless
+/// paused. Keys: Space pauses and resumes, N steps one frame forward (and pauses), R goes back to
+/// frame 0; the same as buttons in panel().
+struct Playback {
+  int frame = 0;
+  bool paused = false;
+  /// Applies typed keys (and the buttons of the last panel()); true if the demo restarts at 0.
+  bool apply(const std::string& typed);
+  /// Buttons and the frame number, in the current ImGui window.
+  void panel();
+  void advance() {
+    if (!paused) ++frame;
+  }
+
+ private:
+  std::string clicked_;  ///< the keys of the buttons clicked in panel()
+};
 
 }  // namespace dq::apps

@@ -1,4 +1,5 @@
 // dqkit-puzzle: the 3D slider puzzle of the VRML dual quaternion tutorial (docs/demos.md).
+#include <cctype>
 #include <deque>
 #include <iostream>
 
@@ -6,8 +7,6 @@
 #include "dq/io/file.hpp"
 
 #if defined(DQKIT_DEMO_WINDOW)
-#define GLFW_INCLUDE_NONE
-#include <GLFW/glfw3.h>
 #include <imgui.h>
 #endif
 
@@ -56,52 +55,53 @@ int main(int argc, char** argv) {
     });
   }
 
-  // Interactive: click a piece to move it, drag to turn the cube, buttons (or keys S, U, R,
-  // Space) to scramble, undo, redo and solve (animated).
+  // Interactive: click a piece to move it, drag to turn the cube, wheel to zoom; buttons (or keys
+  // S, U, R, Space) to scramble, undo, redo and solve (animated). A scramble in the window starts
+  // from the current state with seed --seed + 1, then + 2, ...
   demo::Puzzle puzzle = script.start;
   std::deque<int> pending(script.moves.begin(), script.moves.end());
   std::optional<demo::PuzzleAnimation> animation;
-  double yaw = 0.6, pitch = 0.45;
+  render::Camera camera = demo::puzzle_camera(aspect);
   std::uint64_t next_seed = seed + 1;
   std::string message;
   auto act = [&](char what) {
+    // An animated move finishes first, so that the state is the one shown.
+    if (animation) puzzle.move(animation->move.piece), animation.reset();
     pending.clear();
-    animation.reset();
     if (what == 's') puzzle.scramble(next_seed++, 20), message = "scrambled";
     if (what == 'u') message = puzzle.undo() ? "undone" : "nothing to undo";
     if (what == 'r') message = puzzle.redo() ? "redone" : "nothing to redo";
     if (what == 'v') {
       const auto solution = demo::solve(puzzle, max_depth);
-      if (solution) pending.assign(solution->begin(), solution->end()), message = std::to_string(solution->size()) + " moves";
+      if (solution) pending.assign(solution->begin(), solution->end()), message = "solving: " + std::to_string(solution->size()) + " moves";
       else message = "too far to solve (more than " + std::to_string(max_depth) + " moves)";
     }
   };
-  return apps::run_window(o, "dqkit-puzzle", [&](const apps::Input& in, render::Renderer&) {
-    yaw -= in.drag_x * 0.01;
-    pitch = std::clamp(pitch + in.drag_y * 0.01, -1.4, 1.4);
-    const render::Camera camera = demo::puzzle_camera(aspect, yaw, pitch);
-#if defined(DQKIT_DEMO_WINDOW)
-    for (int key : in.keys) {
-      if (key == GLFW_KEY_S) act('s');
-      if (key == GLFW_KEY_U) act('u');
-      if (key == GLFW_KEY_R) act('r');
-      if (key == GLFW_KEY_SPACE) act('v');
+  return apps::run_window(o, "dqkit-puzzle", [&](const render::WindowInput& in) {
+    render::orbit(camera, in);
+    for (char c : in.typed) {
+      const char key = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (key == 's' || key == 'u' || key == 'r') act(key);
+      if (key == ' ') act('v');
     }
+#if defined(DQKIT_DEMO_WINDOW)
+    // A narrow column at the left, beside the cube.
     ImGui::SetNextWindowPos({8, 8}, ImGuiCond_Once);
+    ImGui::SetNextWindowSizeConstraints({150, 0}, {150, 1e6f});
     ImGui::Begin("Puzzle", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-    if (ImGui::Button("Scramble")) act('s');
-    ImGui::SameLine();
-    if (ImGui::Button("Undo")) act('u');
-    ImGui::SameLine();
-    if (ImGui::Button("Redo")) act('r');
-    ImGui::SameLine();
-    if (ImGui::Button("Solve")) act('v');
-    ImGui::Text("%s, %zu moves, %s", puzzle.solved() ? "solved" : "not solved", puzzle.history().size(), message.c_str());
+    const ImVec2 button{-1, 0};  // the panel's width
+    if (ImGui::Button("Scramble (S)", button)) act('s');
+    if (ImGui::Button("Undo (U)", button)) act('u');
+    if (ImGui::Button("Redo (R)", button)) act('r');
+    if (ImGui::Button("Solve (Space)", button)) act('v');
+    ImGui::TextWrapped("%s, %zu moves made. %s", puzzle.solved() ? "Solved" : "Not solved", puzzle.history().size(), message.c_str());
+    ImGui::Separator();
+    ImGui::TextWrapped("Click a piece next to the hole to move it. Drag: turn the cube. Wheel: zoom. Esc: quit.");
     ImGui::End();
 #endif
-    if (in.clicked && !animation) {
-      const int piece = demo::pick_piece(puzzle, camera, o.width, o.height, in.mouse_x, in.mouse_y);
-      if (piece >= 0 && puzzle.can_move(piece)) pending.push_back(piece);
+    if (in.clicked && !animation && pending.empty()) {
+      const int piece = demo::pick_piece(puzzle, camera, o.width, o.height, in.click_x, in.click_y);
+      if (piece >= 0 && puzzle.can_move(piece)) pending.push_back(piece), message.clear();
     }
     if (!animation && !pending.empty()) {
       if (const auto m = puzzle.move_of(pending.front())) animation = demo::PuzzleAnimation{*m, 0};

@@ -387,8 +387,13 @@ void BipedDemo::step(double seconds) {
   ideal_ = ideal_pose(seconds);
   target_ = world_of<DualQuaternion<double>>(ideal_)[static_cast<std::size_t>(effector_)];
   const IkTask task = IkTask::frame(effector_, target_);
-  errors_dual_.push_back(dual_.solve({&task, 1}, q_dual_).position_error);
-  errors_matrix_.push_back(matrix_.solve({&task, 1}, q_matrix_).position_error);
+  auto timed = [&](auto& solver, std::vector<double>& q, std::vector<double>& errors, std::vector<double>& times) {
+    const auto t0 = std::chrono::steady_clock::now();
+    errors.push_back(solver.solve({&task, 1}, q).position_error);
+    times.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+  };
+  timed(dual_, q_dual_, errors_dual_, times_dual_);
+  timed(matrix_, q_matrix_, errors_matrix_, times_matrix_);
 }
 
 DualQuaternion<double> BipedDemo::effector_frame(bool matrices) const {

@@ -2,9 +2,11 @@
 // GLFW is available and there is a display, a window.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
+#include "dq/render/render.hpp"
 #include "dq/util/expected.hpp"
 
 namespace dq::render::detail {
@@ -15,9 +17,17 @@ class Context {
   /// Makes the context current on the calling thread, first releasing the thread's current one
   /// if it is another (GLVND refuses an EGL context on a thread where a GLX context is current).
   void make_current() const;
-  /// Windows: copies the framebuffer object `fbo` (width × height) to the window, shows it and
-  /// handles events; returns false once the window was closed. Headless: nothing, false.
+  /// Windows: copies the framebuffer object `fbo` (width × height) to the window, calls `overlay`
+  /// (if set), shows it and handles events; returns false once the window was closed. Headless:
+  /// nothing, false.
   virtual bool present(unsigned fbo, int width, int height) = 0;
+  /// Windows: what present() draws over the image before the swap (Renderer::present sets it for
+  /// the call).
+  std::function<void()> overlay;
+  /// Windows: what the user did during the last present(). Headless: nothing.
+  virtual WindowInput input() const { return {}; }
+  /// Windows: the GLFWwindow*. Headless: nullptr.
+  virtual void* native_window() const { return nullptr; }
 
  protected:
   virtual void acquire() const = 0;

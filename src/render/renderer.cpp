@@ -42,6 +42,17 @@ Camera Camera::framing(const Bounds& bounds, double aspect, double yaw, double p
   return c;
 }
 
+void orbit(Camera& c, const WindowInput& in) {
+  c.yaw -= in.drag_x * orbit_radians_per_pixel;
+  c.pitch = std::clamp(c.pitch + in.drag_y * orbit_radians_per_pixel, -1.5, 1.5);
+  if (in.wheel != 0) {
+    const double distance = c.distance * std::pow(0.9, in.wheel), change = distance - c.distance;
+    c.distance = distance;
+    c.far_plane += change;
+    c.near_plane = std::max(c.near_plane + change, distance * 1e-3);
+  }
+}
+
 Projected project(const Camera& camera, int width, int height, const Vec3<double>& p) {
   const Mat4<double> m = camera.projection(double(width) / double(height)) * camera.view();
   double clip[4];
@@ -311,13 +322,19 @@ void Renderer::Impl::resolve() {
   glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
 }
 
-bool Renderer::present() {
+bool Renderer::present(const std::function<void()>& overlay) {
   Impl& g = *impl_;
   g.resolve();
+  g.context->overlay = overlay;
   const bool open = g.context->present(g.resolve_fbo, width(), height());
+  g.context->overlay = nullptr;
   glBindFramebuffer(GL_FRAMEBUFFER, g.msaa_fbo);
   return open;
 }
+
+WindowInput Renderer::input() const { return impl_->context->input(); }
+
+void* Renderer::native_window() const noexcept { return impl_->context->native_window(); }
 
 Image Renderer::read() const {
   Impl& g = *impl_;

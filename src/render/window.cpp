@@ -2,6 +2,11 @@
 #include "context.hpp"
 
 #if defined(DQKIT_HAVE_GLFW)
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #define GL_GLEXT_PROTOTYPES
@@ -15,7 +20,18 @@ namespace {
 
 class GlfwContext final : public Context {
  public:
-  explicit GlfwContext(GLFWwindow* window) : window_(window) {}
+  GlfwContext(GLFWwindow* window, int width, int height) : window_(window), width_(width), height_(height) {
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int) {
+      if (button == GLFW_MOUSE_BUTTON_LEFT) self(w).button(action == GLFW_PRESS);
+    });
+    glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) { self(w).moved(x, y); });
+    glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) { self(w).input_.wheel += dy; });
+    glfwSetCharCallback(window_, [](GLFWwindow* w, unsigned code) { append_utf8(self(w).input_.typed, code); });
+    glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int) {
+      if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(w, GLFW_TRUE);
+    });
+  }
   ~GlfwContext() override {
     release_if_current();
     glfwDestroyWindow(window_);  // GLFW itself stays initialized
@@ -29,13 +45,72 @@ class GlfwContext final : public Context {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
     glBlitFramebuffer(0, 0, width, height, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    if (overlay) {
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      glViewport(0, 0, w, h);
+      overlay();
+    }
     glfwSwapBuffers(window_);
+    const auto next = last_present_ + std::chrono::microseconds(1000000 / 60);
+    std::this_thread::sleep_until(next);
+    last_present_ = std::chrono::steady_clock::now();
+    const double x = input_.x, y = input_.y;
+    input_ = WindowInput{};
+    input_.x = x, input_.y = y;
     glfwPollEvents();
     return !glfwWindowShouldClose(window_);
   }
+  WindowInput input() const override { return input_; }
+  void* native_window() const override { return window_; }
 
  private:
+  static GlfwContext& self(GLFWwindow* w) { return *static_cast<GlfwContext*>(glfwGetWindowUserPointer(w)); }
+  static void append_utf8(std::string& s, unsigned c) {
+    if (c < 0x80) {
+      s += static_cast<char>(c);
+    } else if (c < 0x800) {
+      s += static_cast<char>(0xC0 | (c >> 6));
+      s += static_cast<char>(0x80 | (c & 0x3F));
+    } else if (c < 0x10000) {
+      s += static_cast<char>(0xE0 | (c >> 12));
+      s += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+      s += static_cast<char>(0x80 | (c & 0x3F));
+    } else {
+      s += static_cast<char>(0xF0 | (c >> 18));
+      s += static_cast<char>(0x80 | ((c >> 12) & 0x3F));
+      s += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+      s += static_cast<char>(0x80 | (c & 0x3F));
+    }
+  }
+  /// A cursor position in window coordinates, in image pixels.
+  void moved(double wx, double wy) {
+    int w = 1, h = 1;
+    glfwGetWindowSize(window_, &w, &h);
+    const double x = wx * width_ / std::max(w, 1), y = wy * height_ / std::max(h, 1);
+    if (pressed_) {
+      input_.drag_x += x - input_.x, input_.drag_y += y - input_.y;
+      travel_ = std::max(travel_, std::hypot(x - press_x_, y - press_y_));
+    }
+    input_.x = x, input_.y = y;
+  }
+  void button(bool down) {
+    double wx = 0, wy = 0;
+    glfwGetCursorPos(window_, &wx, &wy);
+    moved(wx, wy);
+    if (down) {
+      press_x_ = input_.x, press_y_ = input_.y, travel_ = 0;
+    } else if (pressed_ && travel_ <= 3) {
+      input_.clicked = true, input_.click_x = input_.x, input_.click_y = input_.y;
+    }
+    pressed_ = down;
+  }
+
   GLFWwindow* window_;
+  int width_, height_;  ///< of the image
+  WindowInput input_;
+  bool pressed_ = false;
+  double press_x_ = 0, press_y_ = 0, travel_ = 0;
+  std::chrono::steady_clock::time_point last_present_{};
 };
 
 std::string glfw_error(const char* what) {
@@ -54,7 +129,7 @@ Expected<std::unique_ptr<Context>> create_window(int width, int height, const st
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   GLFWwindow* window = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
   if (!window) return Error{glfw_error("no window with an OpenGL 3.3 core context")};
-  auto context = std::make_unique<GlfwContext>(window);
+  auto context = std::make_unique<GlfwContext>(window, width, height);
   context->make_current();
   glfwSwapInterval(1);
   return std::unique_ptr<Context>(std::move(context));

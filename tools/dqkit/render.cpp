@@ -1,6 +1,7 @@
 // dqkit render: pictures of a skinned model, headless (OpenGL 3.3 core on Mesa's EGL): LBS, DQS,
 // CoR or all three side by side, one time or a sequence of numbered PNGs, with a camera that
-// frames the whole animation so that the frames of a sequence line up.
+// frames the whole animation so that the frames of a sequence line up; or shown in a window, where
+// a drag turns the camera and the wheel moves it nearer or farther (render::orbit).
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -97,8 +98,9 @@ int run_render(const RenderArgs& a) {
   drawn.meshes.resize(1);
   drawn.meshes[0].triangles = frame.triangles;
   Progress progress("dqkit: rendering", times.size());
-  // In a window the frames play in a loop until the window is closed.
+  // In a window the frames play in a loop until the window is closed; the mouse orbits the camera.
   for (std::size_t i = 0; i < times.size(); i = a.window ? (i + 1) % times.size() : i + 1) {
+    render::orbit(camera, renderer->input());
     renderer->clear();
     for (std::size_t k = 0; k < methods.size(); ++k) {
       skin_at(times[i], methods[k]);
@@ -145,7 +147,7 @@ Runner define_render(CLI::App& c) {
   c.add_option("--camera", a->camera, "Orbit camera 'yaw,pitch[,distance]', degrees (default 35,20 at the distance that frames the whole animation)");
   c.add_flag("--skeleton", a->skeleton, "Draw the bones as lines over the skin");
   c.add_flag("--force", a->force, "Replace the output files if they exist");
-  c.add_flag("--window", a->window, "Show the frames in a window, in a loop until it is closed (needs a display), instead of writing PNGs");
+  c.add_flag("--window", a->window, "Show the frames in a window, in a loop until it is closed or Escape (needs a display), instead of writing PNGs; drag to turn the camera, wheel to zoom");
   return [a] { return run_render(*a); };
 }
 

@@ -108,6 +108,8 @@ class BipedDemo {
   DualQuaternion<double> effector_frame(bool matrices) const;
   /// Position errors (metres) of each step, dual quaternions then matrices.
   const std::vector<double>& errors(bool matrices) const { return matrices ? errors_matrix_ : errors_dual_; }
+  /// The time of each step's solve (microseconds), dual quaternions then matrices.
+  const std::vector<double>& solve_times(bool matrices) const { return matrices ? times_matrix_ : times_dual_; }
   /// The two side-by-side views (dual quaternions left, matrices right): the skeleton computed
   /// (green) over the ideal one whose hand made the target (red), the target frame (red), each error plotted over the steps (log scale).
   std::vector<View> views(int width, int height) const;
@@ -118,7 +120,7 @@ class BipedDemo {
   IkSolver dual_;
   MatrixIkSolver matrix_;
   std::vector<double> ideal_, q_dual_, q_matrix_;  ///< the pose that made the target; the solutions
-  std::vector<double> errors_dual_, errors_matrix_;
+  std::vector<double> errors_dual_, errors_matrix_, times_dual_, times_matrix_;
   DualQuaternion<double> target_;
   int effector_ = -1;
 };

@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -103,6 +104,25 @@ struct Image {
   Status write_png(const std::filesystem::path& path) const;
 };
 
+/// What the user did in a window renderer's window during the last present() (which handles the
+/// window's events). Positions are image pixels (x right from the left edge, y down from the top
+/// row), scaled when the window was resized. Escape closes the window (present() then returns false).
+struct WindowInput {
+  double x = 0, y = 0;            ///< the cursor
+  double drag_x = 0, drag_y = 0;  ///< cursor motion with the left button held
+  bool clicked = false;           ///< the left button released within 3 pixels of where it was pressed
+  double click_x = 0, click_y = 0;
+  double wheel = 0;               ///< wheel steps, positive away from the user
+  std::string typed;              ///< characters typed, UTF-8 (keys without a character are not reported)
+};
+
+/// Mouse orbit, for a window's camera: a left-button drag turns it by `orbit_radians_per_pixel` per
+/// pixel (dragging right turns the model right: yaw decreases; dragging down lowers the far side:
+/// pitch increases, kept within ±1.5), each wheel step away from the user brings it 10% nearer (the
+/// near and far planes move with it). The target and field of view stay.
+inline constexpr double orbit_radians_per_pixel = 0.01;
+void orbit(Camera& camera, const WindowInput& input);
+
 struct RenderOptions {
   int width = 800, height = 600;
   int samples = 4;  ///< multisampling (1: none, so that tests can count exact pixels)
@@ -136,9 +156,19 @@ class Renderer {
   void draw(const Scene& scene, const Camera& camera, Viewport viewport = {});
   /// Reads the image back.
   Image read() const;
-  /// Window renderers: shows the image drawn since clear() and handles the window's events;
-  /// returns false once the user has closed the window. Headless renderers: false.
-  bool present();
+  /// Window renderers: shows the image drawn since clear() (stretched to the window), then calls
+  /// `overlay` (if any) with the window's own framebuffer bound and its viewport set, to draw over
+  /// the image (a user interface: Dear ImGui's OpenGL 3 backend), swaps, waits for the rest of
+  /// 1/60 s since the previous present (no busier where the swap does not wait for the display),
+  /// and handles the window's events (input()). Returns false once the user has closed the window.
+  /// Headless renderers: false, the overlay not called.
+  bool present(const std::function<void()>& overlay = {});
+  /// What the user did during the last present(); headless renderers: nothing.
+  WindowInput input() const;
+  /// The window (a GLFWwindow*; nullptr headless), for a toolkit drawing in it from the overlay,
+  /// e.g. ImGui_ImplGlfw_InitForOpenGL(window, true). The toolkit must chain the callbacks it
+  /// installs to the previous ones (ImGui's backend does), since input() comes from them.
+  void* native_window() const noexcept;
 
  private:
   struct Impl;
