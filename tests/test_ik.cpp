@@ -292,6 +292,19 @@ TEST(IkSolver, SolvesAllocateNothing) {
   const IkResult r = solver.solve(tasks, q);
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_EQ(r.status, IkStatus::converged);
+  // The arm's 6-row (pose) and 3-row (position) systems take the fixed-size path.
+  const KinematicModel& arm = KinematicModel::arm7();
+  const int flange = arm.skeleton().find("flange");
+  IkSolver arm_solver(arm);
+  const auto arm_goal = random_parameters(arm, rng);
+  const DualQuaternion<double> target = frame_at(arm, arm_goal, flange);
+  for (const IkTask& task : {IkTask::frame(flange, target), IkTask::reach(flange, target.translation())}) {
+    std::vector<double> qa(7, 0.0);
+    const long arm_before = g_allocations.load();
+    const IkResult ra = arm_solver.solve(std::span(&task, 1), qa);
+    EXPECT_EQ(g_allocations.load() - arm_before, 0);
+    EXPECT_EQ(ra.status, IkStatus::converged);
+  }
 }
 
 TEST(IkSolver, MatricesNewtonAndGaussSeidelSolveTheSameTargets) {

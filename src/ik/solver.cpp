@@ -491,7 +491,7 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
               // Damped least squares by priority level: level k solves in the null space of levels < k,
               // in the row space (m_k × m_k systems: m_k ≤ 24 rows against up to 36 parameters).
               ws.step.setZero();
-              ws.projector.setIdentity();
+              if (levels > 1 || pull_rest) ws.projector.setIdentity();  // read only then
               bool projected = false;
               for (int level = 0; level < levels; ++level) {
                 Eigen::Index ml = 0;

@@ -12,6 +12,7 @@
 // Each parameter has limits [lower, upper] (a box; ±∞ for none).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <span>
@@ -161,11 +162,15 @@ Vec3<T> axis_as(const Vec3<double>& a) {
 }  // namespace detail
 
 /// The rotation by `angle` about the unit `axis`: (cos ½angle, axis sin ½angle), one sine and
-/// cosine (the exponential map of angle·axis, written for a unit axis).
+/// cosine (the exponential map of angle·axis, written for a unit axis). Plain sin and cos (one
+/// sincos call): detail::sin_cos's exact quadrants cost a division and a rounding per joint, and a
+/// joint angle is an arbitrary value, not a multiple of π/2 that must come out exact.
 template <class T>
 Quaternion<T> revolute_rotation(const Vec3<double>& axis, const T& angle) {
-  const auto sc = detail::sin_cos(angle * T(0.5));
-  return {sc.cos, detail::axis_as<T>(axis) * sc.sin};
+  using std::cos;
+  using std::sin;
+  const T half = angle * T(0.5);
+  return {cos(half), detail::axis_as<T>(axis) * sin(half)};
 }
 
 /// x · D, where D is DOF d's transform for its parameters p (p[0], or p[0..2] for a ball, p[0..5]
