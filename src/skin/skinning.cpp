@@ -78,6 +78,8 @@ template <class V>
 [[gnu::always_inline]] inline float root(float x) { return std::sqrt(x); }
 [[gnu::always_inline]] inline float copysign_of(float magnitude, float sign) { return std::copysign(magnitude, sign); }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+// The vector types, with root and copysign_of on them (declared before the formulas that call
+// them: the lookup of a dependent name finds no overload declared later for a built-in type).
 #pragma GCC diagnostic ignored "-Wpsabi"  // wide vectors pass by value only inside flattened targets
 using float4 = float __attribute__((vector_size(16)));
 using float8 = float __attribute__((vector_size(32)));

@@ -31,7 +31,7 @@ namespace dq {
 enum class SkinningMethod { lbs, dqs, cor };
 
 /// Per-frame bone transforms, one record per bone (a kernel loads a bone's record with whole
-/// vector loads; SIMD lanes gather records by bone index). `matrices[12 b + 4 r + c]` is entry
+/// vector loads; each SIMD lane loads its bone's record, then a transpose). `matrices[12 b + 4 r + c]` is entry
 /// (r, c) of bone b's full 3x4 skinning matrix W · B; `dual_quaternions[8 b + k]` is component k
 /// (real w, x, y, z, dual w, x, y, z) of its rigid part W · rigid(B); `scale_shear[12 b + 4 r + c]`
 /// is entry (r, c < 3) of B's scale/shear P (the linear phase of DQS and CoR; column 3 unused).
