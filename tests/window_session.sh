@@ -9,6 +9,7 @@
 #   change NAME          wait until the picture differs from the last one saved, then is still; save it
 #   click X Y            left click at the window's pixel (X, Y)
 #   drag X1 Y1 X2 Y2     left-button drag
+#   wheel N              N wheel steps away from the user
 #   key KEY...           xdotool key names (s, space, Escape, ...)
 # At the end Escape closes the window; the program must then exit with status 0.
 # "Still": two captures 0.3 s apart are equal. Each wait gives up after 20 s.
@@ -67,6 +68,7 @@ for step in "${list[@]}"; do
         sleep 0.05
       done
       xdotool mouseup 1 ;;
+    wheel) xdotool click --repeat "${w[1]}" --delay 50 4 ;;
     key) xdotool key --delay 40 "${w[@]:1}" ;;
     *) fail "unknown step: $step" ;;
   esac

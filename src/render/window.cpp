@@ -93,10 +93,9 @@ class GlfwContext final : public Context {
     }
     input_.x = x, input_.y = y;
   }
+  // At the cursor of the events so far (GLFW reports it on entering the window too), not the
+  // pointer's position now: motion events queued before the press still come.
   void button(bool down) {
-    double wx = 0, wy = 0;
-    glfwGetCursorPos(window_, &wx, &wy);
-    moved(wx, wy);
     if (down) {
       press_x_ = input_.x, press_y_ = input_.y, travel_ = 0;
     } else if (pressed_ && travel_ <= 3) {
