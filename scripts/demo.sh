@@ -2,7 +2,8 @@
 # Builds dqkit and runs the main demo: the seeds' worked examples, then the character pipeline on
 # real motion capture (CMU 01_01.bvh from Debian's assimp-testmodels): inspect it, forward
 # kinematics of a few frames, and a conversion to another rotation order, checked by reading it
-# back. Installs its Debian packages when missing.
+# back. Then the seeds' demos: a few frames of each to PNG, and the slider puzzle to play in a
+# window when there is a display. Installs its Debian packages when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/deps.sh
@@ -43,3 +44,15 @@ build/release/apps/dqkit-puzzle --headless --frames 12 --out "$demos/puzzle" --s
 build/release/apps/dqkit-viewports --headless --frames 8 --out "$demos/viewports"
 build/release/apps/dqkit-biped --headless --frames 8 --out "$demos/biped"
 echo "The frames are PNG files in $(pwd)/$demos/{puzzle,viewports,biped}/frame_0000.png ..."
+
+echo
+if [[ -z ${DISPLAY:-} ]]; then
+  echo "No display (\$DISPLAY is not set): the slider puzzle is not started in a window."
+  echo "On a desktop: build/release/apps/dqkit-puzzle (docs/demos.md)"
+elif ! xdotool getdisplaygeometry >/dev/null 2>&1; then
+  echo "The display $DISPLAY cannot be opened: the slider puzzle is not started in a window."
+else
+  echo "== The slider puzzle in a window on $DISPLAY: click a piece next to the hole to move it, drag to"
+  echo "   turn the cube, S scramble, U undo, R redo, Space solve, Esc quit (docs/demos.md)"
+  build/release/apps/dqkit-puzzle --seed 3 --scramble 6
+fi
