@@ -15,6 +15,7 @@
 #include <kdl/chainiksolverpos_lma.hpp>
 #include <kdl/chainiksolverpos_nr_jl.hpp>
 #include <kdl/chainiksolvervel_pinv.hpp>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -151,6 +152,10 @@ KDL::Chain kdl_arm() {
 /// it to 1e-12 (then GetRot's angle is exact to 3e-16 relative for angles from 1e-3 down to 1e-11, measured).
 void see_small_rotations() { KDL::epsilon = 1e-12; }
 
+/// A KDL joint angle in [−π, π]: LMA knows no limits and may return a turn more or less than a
+/// joint can take; the same joint position one turn back counts (a user would wrap it too).
+double wrapped(double angle) { return std::remainder(angle, 2 * std::numbers::pi); }
+
 KDL::Frame to_kdl(const DualQuaternion<double>& f) {
   const Vec3<double> t = f.translation();
   return KDL::Frame(KDL::Rotation::Quaternion(f.real.x, f.real.y, f.real.z, f.real.w), KDL::Vector(t.x, t.y, t.z));
@@ -169,7 +174,7 @@ void ArmKdlLMA(benchmark::State& state) {
   run(state, arm(), arm_effector(), arm_targets(), [&](const Target& t, std::vector<double>& q) {
     q0.data.setZero();
     solver.CartToJnt(q0, to_kdl(t.frames[0]), out);
-    for (unsigned i = 0; i < 7; ++i) q[i] = out(i);
+    for (unsigned i = 0; i < 7; ++i) q[i] = wrapped(out(i));
     return solver.lastNrOfIter;
   });
 }
@@ -186,7 +191,7 @@ void ArmKdlNRJL(benchmark::State& state) {
   run(state, arm(), arm_effector(), arm_targets(), [&](const Target& t, std::vector<double>& q) {
     q0.data.setZero();
     solver.CartToJnt(q0, to_kdl(t.frames[0]), out);
-    for (unsigned i = 0; i < 7; ++i) q[i] = out(i);
+    for (unsigned i = 0; i < 7; ++i) q[i] = wrapped(out(i));
     return 0;  // NR_JL does not report its iterations
   });
 }
