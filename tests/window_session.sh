@@ -12,7 +12,8 @@
 #   wheel N              N wheel steps away from the user
 #   key KEY...           xdotool key names (s, space, Escape, ...)
 # At the end Escape closes the window; the program must then exit with status 0.
-# "Still": two captures 0.3 s apart are equal. Each wait gives up after 20 s.
+# "Still": three captures 0.25 s apart are equal (an animation on a busy machine may pause for a
+# frame, not for half a second). Each wait gives up after 20 s.
 set -euo pipefail
 out=$1 name=$2 steps=$3
 shift 3
@@ -31,13 +32,17 @@ xdotool mousemove --window "$win" 1 1
 
 capture() { xwd -silent -id "$win" > "$1" || fail "xwd cannot capture window $win"; }
 still() {  # waits until the picture is still, leaves it in $out/current.xwd
-  local deadline=$((SECONDS + 20))
+  local deadline=$((SECONDS + 20)) same=0
   capture "$out/current.xwd"
   while ((SECONDS < deadline)); do
-    sleep 0.3
+    sleep 0.25
     capture "$out/next.xwd"
-    if cmp -s "$out/current.xwd" "$out/next.xwd"; then return 0; fi
-    mv "$out/next.xwd" "$out/current.xwd"
+    if cmp -s "$out/current.xwd" "$out/next.xwd"; then
+      ((++same < 2)) || return 0
+    else
+      same=0
+      mv "$out/next.xwd" "$out/current.xwd"
+    fi
   done
   fail "the picture does not stay still"
 }
