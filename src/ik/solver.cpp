@@ -80,7 +80,7 @@ struct BasicIkSolver<X>::Workspace {
   std::size_t n = 0, joints = 0;
   std::vector<X> world, spare_world;
   std::vector<Twist<double>> columns, spare_columns;
-  Eigen::MatrixXd jacobian, spare_jacobian, normal, projector, level_jacobian, scratch, row_normal, rows_by_parameters;
+  Eigen::MatrixXd jacobian, normal, projector, level_jacobian, scratch, row_normal, rows_by_parameters;
   Eigen::VectorXd residual, spare_residual, weights, weighted, row_vector, gradient, step, level_step, rhs, q, trial, best, rest;
   Eigen::LDLT<Eigen::MatrixXd> ldlt;
   std::vector<std::size_t> row_of;  // first row of each task
@@ -90,12 +90,12 @@ struct BasicIkSolver<X>::Workspace {
   std::vector<typename Ops::template rebind<HyperDual<double>>> world_h;
   std::mt19937_64 rng;
 
-  /// Exchanges the evaluation buffers (forward kinematics, residual, Jacobian) with the spare set:
-  /// a trial is evaluated into fresh buffers and kept, or swapped back, without copying.
+  /// Exchanges the evaluation buffers (forward kinematics, screw columns, residual) with the spare
+  /// set: a trial is evaluated into fresh buffers and kept, or swapped back, without copying. (The
+  /// task Jacobian is filled from them at the start of each iteration.)
   void swap_evaluation() noexcept {
     world.swap(spare_world);
     columns.swap(spare_columns);
-    jacobian.swap(spare_jacobian);
     residual.swap(spare_residual);
   }
 
@@ -107,7 +107,6 @@ struct BasicIkSolver<X>::Workspace {
         columns(n),
         spare_columns(n),
         jacobian(max_rows, n),
-        spare_jacobian(max_rows, n),
         normal(n, n),
         projector(n, n),
         level_jacobian(max_rows, n),
@@ -134,7 +133,6 @@ struct BasicIkSolver<X>::Workspace {
         world_h(joints) {
     row_of.reserve(64);
     jacobian.setZero();
-    spare_jacobian.setZero();
   }
 };
 
@@ -182,7 +180,6 @@ bool better(const Evaluation& a, const Evaluation& b, double floor, int levels =
 template <class X, class W>
 Evaluation evaluate(const KinematicModel& model, std::span<const IkTask> tasks, W& ws, const Eigen::VectorXd& q,
                     bool with_jacobian) {
-  using Ops = TransformOps<X>;
   const std::span<const double> qs(q.data(), static_cast<std::size_t>(q.size()));
   if (with_jacobian)
     screw_jacobian<X, double>(model, qs, ws.world, ws.columns);
@@ -214,8 +211,20 @@ Evaluation evaluate(const KinematicModel& model, std::span<const IkTask> tasks, 
     } else {
       e.orientation_error = std::max(e.orientation_error, block_norm(0));
     }
-    if (!with_jacobian) continue;
-    // Jacobian rows: d(current)/dq from the screw columns (docs/ik.md has each task's rows).
+  }
+  return e;
+}
+
+/// The tasks' Jacobian rows, d(current)/dq, from the world transforms and screw columns of the last
+/// evaluation (docs/ik.md has each task's rows). Filled at the start of an iteration only: a trial
+/// that is rejected, or that converges, never needs them.
+template <class X, class W>
+void task_jacobian(const KinematicModel& model, std::span<const IkTask> tasks, W& ws) {
+  using Ops = TransformOps<X>;
+  for (std::size_t t = 0; t < tasks.size(); ++t) {
+    const IkTask& task = tasks[t];
+    const std::size_t row = ws.row_of[t];
+    const X& w = ws.world[static_cast<std::size_t>(task.joint)];
     const Vec3<double> x = Ops::apply(w, task.point);
     const std::size_t joint = static_cast<std::size_t>(task.joint);
     for (std::size_t d = 0; d < model.dofs().size(); ++d) {
@@ -247,7 +256,6 @@ Evaluation evaluate(const KinematicModel& model, std::span<const IkTask> tasks, 
       }
     }
   }
-  return e;
 }
 
 /// A = L Lᵀ in place, in A's lower triangle (A symmetric positive definite, as J̃J̃ᵀ + λI with
@@ -475,6 +483,7 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
           cur.cost = newton_terms<X>(model, tasks, ws, ws.q);
           ws.rhs = -ws.gradient;  // descent: −∇f
         } else {
+          task_jacobian<X>(model, tasks, ws);
           ws.weighted.head(m) = ws.weights.head(m).cwiseProduct(ws.residual.head(m));
           ws.rhs.noalias() = ws.jacobian.topRows(m).transpose() * ws.weighted.head(m);
         }
