@@ -74,13 +74,13 @@ struct StreamArrays {
 inline void Copy(benchmark::State& state) {
   StreamArrays s;
   for (auto _ : state) s.copy(static_cast<unsigned>(state.range(0)));
-  state.SetBytesProcessed(static_cast<std::int64_t>(static_cast<double>(state.iterations() * s.size()) * StreamArrays::copy_bytes));
+  state.SetBytesProcessed(static_cast<std::int64_t>(static_cast<double>(state.iterations()) * static_cast<double>(s.size()) * StreamArrays::copy_bytes));
   state.counters["array_MB"] = static_cast<double>(s.size() * sizeof(float)) / 1e6;
 }
 inline void Triad(benchmark::State& state) {
   StreamArrays s;
   for (auto _ : state) s.triad(static_cast<unsigned>(state.range(0)));
-  state.SetBytesProcessed(static_cast<std::int64_t>(static_cast<double>(state.iterations() * s.size()) * StreamArrays::triad_bytes));
+  state.SetBytesProcessed(static_cast<std::int64_t>(static_cast<double>(state.iterations()) * static_cast<double>(s.size()) * StreamArrays::triad_bytes));
   state.counters["array_MB"] = static_cast<double>(s.size() * sizeof(float)) / 1e6;
 }
 
