@@ -314,6 +314,7 @@ void skin_scalar_slots(const Streams& s, std::size_t b, std::size_t e) {
 // `flatten`, so the generic code above, instantiated on GCC's vector types, is inlined and
 // compiled for that target (never a per-file -m flag). Palette entries are loaded per lane (one
 // vector load of a bone's record) and transposed to component vectors with shuffles: no gathers.
+
 // Shuffles within each 128-bit block (unpcklps, unpckhps, movlhps, movhlps per block).
 #define DQKIT_IN_BLOCKS(name, i0, i1, i2, i3)                                                                              \
   [[gnu::always_inline]] inline float4 name(float4 a, float4 b) { return __builtin_shufflevector(a, b, i0, i1, i2, i3); } \
@@ -378,7 +379,7 @@ struct VectorLanes {
         else
           r[j] = __builtin_shufflevector(load_as<float8>(entry(j)), load_as<float8>(entry(j + 8)), 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
       }
-      transpose4_in_blocks(r, u);      // u[c]: components c | c + 4 of lanes 0-3 (| c, c + 4 of 8-11)
+      transpose4_in_blocks(r, u);          // u[c]: components c | c + 4 of lanes 0-3 (| c, c + 4 of 8-11)
       transpose4_in_blocks(r + 4, u + 4);  // the same for lanes 4-7 (and 12-15)
       for (int c = 0; c < 4; ++c) {
         if constexpr (N == 8) {
