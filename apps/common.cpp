@@ -1,6 +1,5 @@
 #include "common.hpp"
 
-#include <cctype>
 #include <cstdio>
 #include <iostream>
 
@@ -28,16 +27,18 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--width", o.width, "Image width, pixels")->check(CLI::Range(16, 8192));
   app.add_option("--height", o.height, "Image height, pixels")->check(CLI::Range(16, 8192));
   app.add_option("--quit-after", o.quit_after, "Window: close after this many frames (0: never)")->check(CLI::NonNegativeNumber);
-  app.add_option("--screenshot", o.screenshot, "Window: write the last image shown to this PNG on exit");
+  app.add_option("--screenshot", o.screenshot, "Window: write the last picture drawn (without the ImGui panel) to this PNG on exit");
 }
 
-bool Playback::apply(const std::string& typed) {
+char32_t lower_case(char32_t c) { return c >= U'A' && c <= U'Z' ? c - U'A' + U'a' : c; }
+
+bool Playback::apply(const std::u32string& typed) {
   bool restart = false;
-  for (char c : clicked_ + typed) {
-    const char key = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (key == ' ') paused = !paused;
-    if (key == 'n') ++frame, paused = true;
-    if (key == 'r') frame = 0, restart = true;
+  for (char32_t c : clicked_ + typed) {
+    const char32_t key = lower_case(c);
+    if (key == U' ') paused = !paused;
+    if (key == U'n') ++frame, paused = true;
+    if (key == U'r') frame = 0, restart = true;
   }
   clicked_.clear();
   return restart;
@@ -45,11 +46,11 @@ bool Playback::apply(const std::string& typed) {
 
 #if defined(DQKIT_DEMO_WINDOW)
 void Playback::panel() {
-  if (ImGui::Button(paused ? "Play" : "Pause")) clicked_ += ' ';
+  if (ImGui::Button(paused ? "Play" : "Pause")) clicked_ += U' ';
   ImGui::SameLine();
-  if (ImGui::Button("Step")) clicked_ += 'n';
+  if (ImGui::Button("Step")) clicked_ += U'n';
   ImGui::SameLine();
-  if (ImGui::Button("Restart")) clicked_ += 'r';
+  if (ImGui::Button("Restart")) clicked_ += U'r';
   ImGui::SameLine();
   ImGui::Text("frame %d", frame);
   ImGui::TextWrapped("Keys: Space pause, N step, R restart, Esc quit.");

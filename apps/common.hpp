@@ -38,6 +38,9 @@ int run_headless(const Options& options, const std::function<std::vector<demo::V
 int run_window(const Options& options, const char* title,
                const std::function<std::vector<demo::View>(const render::WindowInput& input)>& frame);
 
+/// A Latin capital letter as lower case; other characters unchanged.
+char32_t lower_case(char32_t c);
+
 /// The frame an animated demo shows in a window: it advances by one per window frame unless
 /// paused. Keys: Space pauses and resumes, N steps one frame forward (and pauses), R goes back to
 /// frame 0; the same as buttons in panel().
@@ -45,7 +48,7 @@ struct Playback {
   int frame = 0;
   bool paused = false;
   /// Applies typed keys (and the buttons of the last panel()); true if the demo restarts at 0.
-  bool apply(const std::string& typed);
+  bool apply(const std::u32string& typed);
   /// Buttons and the frame number, in the current ImGui window.
   void panel();
   void advance() {
@@ -53,7 +56,7 @@ struct Playback {
   }
 
  private:
-  std::string clicked_;  ///< the keys of the buttons clicked in panel()
+  std::u32string clicked_;  ///< the keys of the buttons clicked in panel()
 };
 
 }  // namespace dq::apps

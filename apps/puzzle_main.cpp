@@ -1,5 +1,4 @@
 // dqkit-puzzle: the 3D slider puzzle of the VRML dual quaternion tutorial (docs/demos.md).
-#include <cctype>
 #include <deque>
 #include <iostream>
 
@@ -79,10 +78,10 @@ int main(int argc, char** argv) {
   };
   return apps::run_window(o, "dqkit-puzzle", [&](const render::WindowInput& in) {
     render::orbit(camera, in);
-    for (char c : in.typed) {
-      const char key = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      if (key == 's' || key == 'u' || key == 'r') act(key);
-      if (key == ' ') act('v');
+    for (char32_t c : in.typed) {
+      const char32_t key = apps::lower_case(c);
+      if (key == U's' || key == U'u' || key == U'r') act(static_cast<char>(key));
+      if (key == U' ') act('v');
     }
 #if defined(DQKIT_DEMO_WINDOW)
     // A narrow column at the left, beside the cube.

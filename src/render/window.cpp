@@ -27,7 +27,7 @@ class GlfwContext final : public Context {
     });
     glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) { self(w).moved(x, y); });
     glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) { self(w).input_.wheel += dy; });
-    glfwSetCharCallback(window_, [](GLFWwindow* w, unsigned code) { append_utf8(self(w).input_.typed, code); });
+    glfwSetCharCallback(window_, [](GLFWwindow* w, unsigned code) { self(w).input_.typed += static_cast<char32_t>(code); });
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int) {
       if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(w, GLFW_TRUE);
     });
@@ -65,23 +65,6 @@ class GlfwContext final : public Context {
 
  private:
   static GlfwContext& self(GLFWwindow* w) { return *static_cast<GlfwContext*>(glfwGetWindowUserPointer(w)); }
-  static void append_utf8(std::string& s, unsigned c) {
-    if (c < 0x80) {
-      s += static_cast<char>(c);
-    } else if (c < 0x800) {
-      s += static_cast<char>(0xC0 | (c >> 6));
-      s += static_cast<char>(0x80 | (c & 0x3F));
-    } else if (c < 0x10000) {
-      s += static_cast<char>(0xE0 | (c >> 12));
-      s += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
-      s += static_cast<char>(0x80 | (c & 0x3F));
-    } else {
-      s += static_cast<char>(0xF0 | (c >> 18));
-      s += static_cast<char>(0x80 | ((c >> 12) & 0x3F));
-      s += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
-      s += static_cast<char>(0x80 | (c & 0x3F));
-    }
-  }
   /// A cursor position in window coordinates, in image pixels.
   void moved(double wx, double wy) {
     int w = 1, h = 1;
@@ -93,8 +76,8 @@ class GlfwContext final : public Context {
     }
     input_.x = x, input_.y = y;
   }
-  // At the cursor of the events so far (GLFW reports it on entering the window too), not the
-  // pointer's position now: motion events queued before the press still come.
+  // At the cursor of the events handled so far, where the press happened (GLFW reports the cursor
+  // on entering the window too); querying the pointer now would give a later position.
   void button(bool down) {
     if (down) {
       press_x_ = input_.x, press_y_ = input_.y, travel_ = 0;

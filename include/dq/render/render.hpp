@@ -113,7 +113,7 @@ struct WindowInput {
   bool clicked = false;           ///< the left button released within 3 pixels of where it was pressed
   double click_x = 0, click_y = 0;
   double wheel = 0;               ///< wheel steps, positive away from the user
-  std::string typed;              ///< characters typed, UTF-8 (keys without a character are not reported)
+  std::u32string typed;           ///< characters typed (keys without a character are not reported)
 };
 
 /// Mouse orbit, for a window's camera: a left-button drag turns it by `orbit_radians_per_pixel` per
