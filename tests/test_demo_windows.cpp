@@ -48,7 +48,7 @@ double dark_share(const Png& png, int x0, int y0, int x1, int y1) {
   return double(dark) / ((x1 - x0) * (y1 - y0));
 }
 
-TEST(DemoWindows, PuzzleMovesTheClickedPieceUndoesSolvesAndScrambles) {
+TEST(DemoWindows, PuzzleMovesTheClickedPieceUndoesSolvesScramblesAndTurns) {
   if (!have_tools()) GTEST_SKIP() << "needs xvfb-run, xdotool, xwd and ImageMagick's convert";
   const int width = 800, height = 600;
   const render::Camera camera = demo::puzzle_camera(double(width) / height);
@@ -72,7 +72,8 @@ TEST(DemoWindows, PuzzleMovesTheClickedPieceUndoesSolvesAndScrambles) {
   const fs::path dir = session("puzzle", "dqkit-puzzle", DQKIT_PUZZLE,
                                "--seed " + std::to_string(seed) + " --scramble 3 --width 800 --height 600",
                                "shot start; click " + std::to_string(int(click.x)) + " " + std::to_string(int(click.y)) +
-                                   "; change moved; key u; change undone; key space; change solved; key s; change scrambled");
+                                   "; change moved; key u; change undone; key space; change solved; key s; change scrambled;"
+                                   " drag 480 560 440 580; change turned");
 
   const Png shown = load(dir / "start.png");
   ASSERT_EQ(shown.width, width);
@@ -101,6 +102,11 @@ TEST(DemoWindows, PuzzleMovesTheClickedPieceUndoesSolvesAndScrambles) {
   played.scramble(seed + 1, 20);
   ASSERT_FALSE(played.solved());
   expect_pieces(load(dir / "scrambled.png"), played);
+  // A drag below the cube (40 pixels left, 20 down) turns the camera as render::orbit says.
+  render::Camera turned = camera;
+  turned.yaw += 40 * render::orbit_radians_per_pixel;
+  turned.pitch += 20 * render::orbit_radians_per_pixel;
+  expect_pieces(load(dir / "turned.png"), played, turned);
   if (HasFailure()) std::cout << "the captures are in " << dir.string() << "\n";
   else fs::remove_all(dir);
 }

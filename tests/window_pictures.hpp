@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "dq/demo/scenes.hpp"
@@ -66,10 +67,10 @@ inline std::array<Vec3<double>, 2> piece_corners(const demo::Puzzle& puzzle, int
   return {pose.transform_point({0.21, 1.4, 1.4}), pose.transform_point({0.21, -1.4, -1.4})};
 }
 
-/// Every piece whose picture side faces the camera (the puzzle's default camera) shows its home
-/// face's colour at two corners of that side, where the state puts it.
-inline void expect_pieces(const Png& png, const demo::Puzzle& puzzle) {
-  const render::Camera camera = demo::puzzle_camera(double(png.width) / png.height);
+/// Every piece whose picture side faces the camera shows its home face's colour at two corners of
+/// that side, where the state puts it. The puzzle's default camera by default.
+inline void expect_pieces(const Png& png, const demo::Puzzle& puzzle, std::optional<render::Camera> seen_from = {}) {
+  const render::Camera camera = seen_from.value_or(demo::puzzle_camera(double(png.width) / png.height));
   int checked = 0;
   for (int piece = 0; piece < demo::puzzle_pieces; ++piece) {
     if (!faces_camera(puzzle, piece, camera)) continue;
