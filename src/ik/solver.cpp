@@ -485,13 +485,22 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
           ws.rhs = -ws.gradient;  // descent: −∇f
         } else {
           task_jacobian<X>(model, tasks, ws);
-          ws.weighted.head(m) = ws.weights.head(m).cwiseProduct(ws.residual.head(m));
-          ws.rhs.noalias() = ws.jacobian.topRows(m).transpose() * ws.weighted.head(m);
+          // Jᵀ W r: Gauss–Seidel's right-hand side; for LM only to see which limits hold (below).
+          bool at_limit = false;
+          for (std::size_t i = 0; i < n; ++i) {
+            const double qi = ws.q[static_cast<Eigen::Index>(i)];
+            at_limit = at_limit || qi >= limits[i].upper || qi <= limits[i].lower;
+          }
+          if (at_limit || options_.method == IkMethod::gauss_seidel) {
+            ws.weighted.head(m) = ws.weights.head(m).cwiseProduct(ws.residual.head(m));
+            ws.rhs.noalias() = ws.jacobian.topRows(m).transpose() * ws.weighted.head(m);
+          }
         }
         // Parameters at a limit that the descent direction pushes outwards stay there.
         for (std::size_t i = 0; i < n; ++i) {
-          const double qi = ws.q[static_cast<Eigen::Index>(i)], gi = ws.rhs[static_cast<Eigen::Index>(i)];
-          ws.fixed[i] = !ws.free[i] || (qi >= limits[i].upper && gi > 0) || (qi <= limits[i].lower && gi < 0);
+          const auto ii = static_cast<Eigen::Index>(i);
+          const bool at_upper = ws.q[ii] >= limits[i].upper, at_lower = ws.q[ii] <= limits[i].lower;
+          ws.fixed[i] = !ws.free[i] || (at_upper && ws.rhs[ii] > 0) || (at_lower && ws.rhs[ii] < 0);
         }
         // The step for damping λ over the parameters not pinned at a limit (false: the damped Newton
         // matrix is not positive definite).
