@@ -93,6 +93,52 @@ void ComposeGlmDualquat(benchmark::State& s) {
   ComposeMatrices<glm::tdualquat<T>, T>(s, [](const auto& q) { return dq::glm_interop::to_glm(q); });
 }
 
+// ---- composition as a latency chain: x = x * a[i], each product waiting for the one before -----
+/// The chain's result of each representation, as a dqkit 4x4 matrix, is checked once outside the
+/// timing against the dual-quaternion chain computed in double (the same work, the same result).
+template <class M, class Make, class ToMat4>
+void ComposeChain(benchmark::State& state, Make make, ToMat4 to_mat4) {
+  const auto q = random_transforms<float>(7);
+  std::vector<M> a;
+  for (const auto& x : q) a.push_back(make(x));
+  auto chain = [&a] {
+    M x = a[0];
+    for (std::size_t i = 1; i < kCount; ++i) x = x * a[i];
+    return x;
+  };
+  dq::DualQuaternion<double> reference = q[0].template cast<double>();
+  for (std::size_t i = 1; i < kCount; ++i) reference = reference * q[i].template cast<double>();
+  const dq::Mat4<double> expected = dq::to_mat4(reference), got = to_mat4(chain());
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      if (!(std::abs(got(r, c) - expected(r, c)) < 1e-2)) state.SkipWithError("the chain's result differs from the reference");
+  for (auto _ : state) benchmark::DoNotOptimize(chain());
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (kCount - 1)));
+}
+/// A 4x4 matrix of any library, read element by element through `at(r, c)`, in double.
+template <class At>
+dq::Mat4<double> read_mat4(At at) {
+  dq::Mat4<double> out;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) out(r, c) = at(r, c);
+  return out;
+}
+void ChainDualQuaternion(benchmark::State& s) {
+  ComposeChain<dq::DualQuaternion<float>>(s, [](const auto& q) { return q; }, [](const auto& x) { return dq::to_mat4(x.template cast<double>()); });
+}
+void ChainGlmDualquat(benchmark::State& s) {
+  ComposeChain<glm::dualquat>(s, [](const auto& q) { return dq::glm_interop::to_glm(q); },
+                              [](const glm::dualquat& x) { return dq::to_mat4(dq::glm_interop::from_glm(x).cast<double>()); });
+}
+void ChainGlmMat4(benchmark::State& s) {
+  ComposeChain<glm::mat4>(s, [](const auto& q) { return dq::glm_interop::to_glm(dq::to_mat4(q)); },
+                          [](const glm::mat4& x) { return read_mat4([&](int r, int c) { return x[c][r]; }); });
+}
+void ChainEigenMatrix4(benchmark::State& s) {
+  ComposeChain<Eigen::Matrix4f>(s, [](const auto& q) { return dq::eigen::to_eigen(dq::to_mat4(q)); },
+                                [](const Eigen::Matrix4f& x) { return read_mat4([&](int r, int c) { return x(r, c); }); });
+}
+
 // ---- transforming points: out[i] = T[i] p[i] -----------------------------------------------------
 template <class T, class Apply>
 void TransformPoints(benchmark::State& state, Apply apply) {
@@ -122,6 +168,42 @@ void PointMat34(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * kCount));
+}
+
+/// A peer's point transform over the same transforms and points, checked once against dqkit's.
+template <class M, class P, class Make, class MakePoint, class Apply, class Read>
+void TransformPointsPeer(benchmark::State& state, Make make, MakePoint make_point, Apply apply, Read read) {
+  const auto q = random_transforms<float>(3), pts = random_transforms<float>(4);
+  std::vector<M> m;
+  std::vector<P> p, out(kCount);
+  for (std::size_t i = 0; i < kCount; ++i) m.push_back(make(q[i])), p.push_back(make_point(pts[i].translation()));
+  for (std::size_t i = 0; i < kCount; ++i)
+    if (!(dq::norm(read(apply(m[i], p[i])) - q[i].transform_point(pts[i].translation())) < 1e-4f)) {
+      state.SkipWithError("the peer's point differs from dqkit's");
+      break;
+    }
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kCount; ++i) out[i] = apply(m[i], p[i]);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * kCount));
+}
+void PointEigenIsometry(benchmark::State& s) {
+  TransformPointsPeer<Eigen::Isometry3f, Eigen::Vector3f>(
+      s, [](const auto& q) { return dq::eigen::to_isometry(q); }, [](const auto& v) { return Eigen::Vector3f(v.x, v.y, v.z); },
+      [](const Eigen::Isometry3f& m, const Eigen::Vector3f& v) -> Eigen::Vector3f { return m * v; },
+      [](const Eigen::Vector3f& v) { return dq::Vec3<float>{v.x(), v.y(), v.z()}; });
+}
+void PointGlmMat4(benchmark::State& s) {
+  TransformPointsPeer<glm::mat4, glm::vec4>(
+      s, [](const auto& q) { return dq::glm_interop::to_glm(dq::to_mat4(q)); }, [](const auto& v) { return glm::vec4(v.x, v.y, v.z, 1); },
+      [](const glm::mat4& m, const glm::vec4& v) { return m * v; }, [](const glm::vec4& v) { return dq::Vec3<float>{v.x, v.y, v.z}; });
+}
+void PointGlmDualquat(benchmark::State& s) {
+  TransformPointsPeer<glm::dualquat, glm::vec3>(
+      s, [](const auto& q) { return dq::glm_interop::to_glm(q); }, [](const auto& v) { return glm::vec3(v.x, v.y, v.z); },
+      [](const glm::dualquat& m, const glm::vec3& v) { return m * v; }, [](const glm::vec3& v) { return dq::Vec3<float>{v.x, v.y, v.z}; });
 }
 
 // ---- interpolation ---------------------------------------------------------------------------------
@@ -176,9 +258,16 @@ BENCHMARK(ComposeGlmDualquat<float>);
 BENCHMARK(ComposeDualQuaternion<double>);
 BENCHMARK(ComposeEigenIsometry<double>);
 BENCHMARK(ComposeGlmMat4<double>);
+BENCHMARK(ChainDualQuaternion);
+BENCHMARK(ChainGlmDualquat);
+BENCHMARK(ChainGlmMat4);
+BENCHMARK(ChainEigenMatrix4);
 BENCHMARK(PointDualQuaternion);
 BENCHMARK(PointDualQuaternionSandwich);
 BENCHMARK(PointMat34);
+BENCHMARK(PointEigenIsometry);
+BENCHMARK(PointGlmMat4);
+BENCHMARK(PointGlmDualquat);
 BENCHMARK(SlerpDqkit);
 BENCHMARK(SlerpEigen);
 BENCHMARK(SlerpGlm);

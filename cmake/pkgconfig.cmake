@@ -18,11 +18,15 @@ endfunction()
 
 dqkit_pkgconfig(dqkit "" "${PROJECT_DESCRIPTION}: the header-only algebra" "")
 dqkit_pkgconfig(dqkit-anim dqkit_anim "dqkit skeletons, forward kinematics, the biped" dqkit)
-dqkit_pkgconfig(dqkit-simd dqkit_simd "dqkit batch kernels with the instruction set chosen at run time" dqkit-anim)
 dqkit_pkgconfig(dqkit-io dqkit_io "dqkit BVH reading and writing, motion loading, safe file writing" dqkit-anim)
 # A static library needs its private dependencies on the consumer's link line: Requires, not
 # Requires.private (which `pkg-config --libs` leaves out without --static).
-set(dqkit_skin_requires dqkit-anim)
+set(dqkit_simd_requires dqkit-anim)
+if(DQKIT_HAVE_TBB AND NOT BUILD_SHARED_LIBS)
+  string(APPEND dqkit_simd_requires " tbb")
+endif()
+dqkit_pkgconfig(dqkit-simd dqkit_simd "dqkit batch kernels with the instruction set chosen at run time" "${dqkit_simd_requires}")
+set(dqkit_skin_requires dqkit-simd)
 if(DQKIT_HAVE_TINYGLTF AND NOT BUILD_SHARED_LIBS)
   string(APPEND dqkit_skin_requires " tinygltf")
 endif()

@@ -37,23 +37,57 @@ def fmt(x, unit=""):
     return f"{x:.3g} {unit}".rstrip()
 
 
+def ns(cases, name):
+    return cases[name]["real_time"] if cases[name]["time_unit"] == "ns" else cases[name]["real_time"] * 1e3
+
+
+# One-at-a-time cases: dqkit's first, then its peers; each row's ratio is its time over the
+# fastest peer's (not dqkit's own) in the same run.
+ONE_AT_A_TIME = (
+    ("compose, throughput (out[i] = a[i] * b[i])", ["ComposeDualQuaternion<float>"],
+     ["ComposeGlmDualquat<float>", "ComposeGlmMat4<float>", "ComposeEigenMatrix4<float>", "ComposeEigenIsometry<float>"]),
+    ("compose, latency chain (x = x * a[i])", ["ChainDualQuaternion"], ["ChainGlmDualquat", "ChainGlmMat4", "ChainEigenMatrix4"]),
+    ("compose in double, throughput", ["ComposeDualQuaternion<double>"], ["ComposeGlmMat4<double>", "ComposeEigenIsometry<double>"]),
+    ("transform a point", ["PointDualQuaternion", "PointMat34"], ["PointEigenIsometry", "PointGlmMat4", "PointGlmDualquat"]),
+    ("slerp", ["SlerpDqkit"], ["SlerpEigen", "SlerpGlm"]),
+)
+
+
+def one_at_a_time(add, c, build):
+    add("")
+    add(f"### One at a time, {build} (bench_core, 1024 operations per case)")
+    add("| operation | case | median per 1024 | × the fastest peer's time |")
+    add("| --- | --- | ---: | ---: |")
+    for operation, ours, peers in ONE_AT_A_TIME:
+        best = min(ns(c, name) for name in peers)
+        for name in ours + peers:
+            add(f"| {operation} | {name} | {ns(c, name):.0f} ns | {ns(c, name) / best:.2f} |")
+
+
+def build_avx2():
+    """bench_core built with -mavx2 -mfma (the one-at-a-time types must stay fast there too)."""
+    build = os.path.join(ROOT, "build", "bench-avx2")
+    subprocess.run(["cmake", "-S", ROOT, "-B", build, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_FLAGS=-mavx2 -mfma",
+                    "-DDQKIT_BUILD_TESTS=OFF", "-DDQKIT_BUILD_PYTHON=OFF", "-DDQKIT_BUILD_DEMOS=OFF", "-DDQKIT_BUILD_TOOLS=OFF",
+                    "-DDQKIT_BUILD_EXAMPLES=OFF"], check=True, capture_output=True)
+    subprocess.run(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_core"], check=True, capture_output=True)
+    return build
+
+
 def main(build):
-    batch, core = run(build, "bench_batch"), run(build, "bench_core")
+    batch, core, core_avx2 = run(build, "bench_batch"), run(build, "bench_core"), run(build_avx2(), "bench_core")
     with open(os.path.join(ROOT, "docs", "performance.json"), "w") as f:
-        json.dump({"bench_batch": batch, "bench_core": core}, f, indent=1)
-    b, c = medians(batch), medians(core)
+        json.dump({"bench_batch": batch, "bench_core": core, "bench_core_avx2": core_avx2}, f, indent=1)
+    b, c, c_avx2 = medians(batch), medians(core), medians(core_avx2)
     ctx = batch["context"]
     copy1 = b["Copy/1/real_time"]["bytes_per_second"]
-
-    def ns(cases, name):
-        return cases[name]["real_time"] if cases[name]["time_unit"] == "ns" else cases[name]["real_time"] * 1e3
 
     lines = []
     add = lines.append
     add(f"Machine: {ctx['cpu_model']}, {ctx['num_cpus']} cores, last-level cache {ctx['llc_MB']} MB; widest dispatch "
         f"target: {ctx['simd_target']}; GCC 12, Release, portable flags (no `-march`). Command: "
-        "`/usr/bin/python3 scripts/performance.py` (runs `bench_batch` and `bench_core` with 3 repetitions, medians; "
-        "raw results in `docs/performance.json`).")
+        "`/usr/bin/python3 scripts/performance.py` (runs `bench_batch` and `bench_core` with 3 repetitions, medians, "
+        "and `bench_core` again built with `-mavx2 -mfma` in build/bench-avx2; raw results in `docs/performance.json`).")
     add("")
     add("### The machine's limits (same run)")
     add("| measure | 1 thread | 2 threads |")
@@ -100,19 +134,8 @@ def main(build):
     add(f"| slerp over arrays, dqkit dispatched (no failure case) | {fmt(sd)} | | {sd / se:.2f} × Eigen per element |")
     add(f"| slerp, Eigen `Quaternionf::slerp` per element | {fmt(se)} | | 1.00 |")
     add("")
-    add("### One at a time (bench_core, 1024 operations per case)")
-    add("| case | median per 1024 | ratio |")
-    add("| --- | ---: | --- |")
-    glm_mat4 = ns(c, "ComposeGlmMat4<float>")
-    for name in ("ComposeDualQuaternion<float>", "ComposeGlmDualquat<float>", "ComposeGlmMat4<float>",
-                 "ComposeEigenMatrix4<float>", "ComposeEigenIsometry<float>"):
-        add(f"| {name} | {ns(c, name):.0f} ns | {ns(c, name) / glm_mat4:.2f} × GLM `mat4` |")
-    glm_dmat4 = ns(c, "ComposeGlmMat4<double>")
-    for name in ("ComposeDualQuaternion<double>", "ComposeEigenIsometry<double>", "ComposeGlmMat4<double>"):
-        add(f"| {name} | {ns(c, name):.0f} ns | {ns(c, name) / glm_dmat4:.2f} × GLM `dmat4` |")
-    eig = ns(c, "SlerpEigen")
-    for name in ("SlerpDqkit", "SlerpEigen", "SlerpGlm"):
-        add(f"| {name} | {ns(c, name):.0f} ns | {ns(c, name) / eig:.2f} × Eigen |")
+    one_at_a_time(add, c, "portable build")
+    one_at_a_time(add, c_avx2, "built with `-mavx2 -mfma`")
 
     page = os.path.join(ROOT, "docs", "performance.md")
     text = open(page).read()
@@ -136,7 +159,7 @@ def main(build):
               "one skeleton vs Eigen": one_dq / one_eigen,
               "points vs Eigen (hot)": tp[0] / te[0], "points vs Eigen (DRAM)": tp[1] / te[1],
               "compose vs GLM dq (hot)": cd[0] / cg[0], "slerp arrays vs Eigen": sd / se,
-              "slerp one at a time vs Eigen": eig / ns(c, "SlerpDqkit")}
+              "slerp one at a time vs Eigen": ns(c, "SlerpEigen") / ns(c, "SlerpDqkit")}
     ax[1].barh(list(ratios), list(ratios.values()))
     ax[1].axvline(1.0, color="grey", linestyle=":")
     ax[1].set_xlabel("dqkit speed ÷ peer speed (same run)")

@@ -19,6 +19,7 @@
 #ifdef DQKIT_HAVE_IMPORT
 #include "dq/io/scene.hpp"
 #endif
+#include "cli.hpp"
 #include "models.hpp"
 
 namespace {
@@ -30,39 +31,10 @@ const fs::path kModels = dq::test::assimp_models();
 // check that a test fails without its fix).
 const std::string kTool = std::getenv("DQKIT_CLI_UNDER_TEST") ? std::getenv("DQKIT_CLI_UNDER_TEST") : DQKIT_CLI;
 
-struct Outcome {
-  int code;
-  std::string out, err;
-};
-
-/// Runs a shell command line; standard error is collected from a file (so it is not a terminal).
-Outcome shell(const std::string& line) {
-  const fs::path err_file = fs::temp_directory_path() / ("dqkit_cli_stderr_" + std::to_string(::getpid()) + ".txt");
-  const std::string command = "(" + line + ") 2>" + err_file.string();
-  Outcome r{};
-  FILE* p = popen(command.c_str(), "r");
-  if (!p) return {-1, "", "popen failed"};
-  char buf[65536];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream e(err_file);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  r.err = ss.str();
-  return r;
-}
-
+using Outcome = dq::test::CliOutcome;
+using dq::test::read_file;
 /// Runs the tool with these arguments (shell syntax).
-Outcome run(const std::string& args) { return shell(kTool + " " + args); }
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+Outcome run(const std::string& args) { return dq::test::run_shell(kTool + " " + args); }
 
 class Cli : public ::testing::Test {
  protected:
@@ -475,7 +447,7 @@ TEST_F(CliScript, ASignalLeavesNoTemporaryFileAndRacingWritersDoNotReplaceEachOt
   EXPECT_FALSE(fs::exists(dir_ / "out.csv"));
   // Two writers to one new path without --force: one wins, the other is told, nothing is mixed.
   write("small.bvh", generated_capture(5, 2000));
-  const Outcome both = shell(kTool + " fk " + p("small.bvh") + " --all -o " + p("race.csv") + " & " + kTool + " fk " + p("small.bvh") +
+  const Outcome both = dq::test::run_shell(kTool + " fk " + p("small.bvh") + " --all -o " + p("race.csv") + " & " + kTool + " fk " + p("small.bvh") +
                              " --all -o " + p("race.csv") + "; wait");
   EXPECT_NE(both.err.find("race.csv: already exists (use --force to replace it)"), std::string::npos) << both.err;
   const Outcome reference = run("fk " + p("small.bvh") + " --all");

@@ -223,14 +223,22 @@ TEST(Quaternion, CanonicalAndApproxEqual) {
 }
 
 TEST(Quaternion, FloatProductIsBitIdenticalToTheScalarFormula) {
-  // The float product runs as SSE2 on x86-64; it must give exactly the scalar formula's bits.
+  // The float products run four lanes at a time; they must give exactly the bits of the scalar
+  // formula (written out here: each component's four products summed in pairs), for quaternions
+  // and for the three products and the sum of a dual quaternion's.
+  auto hamilton = [](const Quaternion<float>& a, const Quaternion<float>& b) {
+    return Quaternion<float>((a.w * b.w - a.x * b.x) - (a.y * b.y + a.z * b.z), (a.w * b.x + a.x * b.w) + (a.y * b.z - a.z * b.y),
+                             (a.w * b.y - a.x * b.z) + (a.y * b.w + a.z * b.x), (a.w * b.z + a.x * b.y) - (a.y * b.x - a.z * b.w));
+  };
   std::mt19937 engine(7);
   std::normal_distribution<float> g;
+  auto random = [&] { return Quaternion<float>(g(engine), g(engine), g(engine), g(engine)); };
   for (int n = 0; n < 200000; ++n) {
-    const Quaternion<float> a(g(engine), g(engine), g(engine), g(engine)), b(g(engine), g(engine), g(engine), g(engine));
-    const Quaternion<float> expected(a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-                                     a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w);
-    ASSERT_EQ(a * b, expected) << a << " * " << b;
+    const Quaternion<float> a = random(), b = random();
+    ASSERT_EQ(a * b, hamilton(a, b)) << a << " * " << b;
+    const DualQuaternion<float> p(a, random()), q(b, random());
+    const DualQuaternion<float> expected(hamilton(p.real, q.real), hamilton(p.real, q.dual) + hamilton(p.dual, q.real));
+    ASSERT_EQ(p * q, expected);
   }
 }
 

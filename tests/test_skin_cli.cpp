@@ -12,35 +12,17 @@
 #include <sstream>
 #include <string>
 
+#include "cli.hpp"
 #include "models.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int code;
-  std::string out, err;
-};
+using Outcome = dq::test::CliOutcome;
 
-/// Runs the tool; standard error goes to a file (so it is not a terminal: no progress display).
-Outcome run(const std::string& args) {
-  const fs::path err_file = fs::temp_directory_path() / ("dqkit_skin_cli_stderr_" + std::to_string(::getpid()) + ".txt");
-  FILE* p = popen((std::string(DQKIT_CLI) + " " + args + " 2>" + err_file.string()).c_str(), "r");
-  Outcome r{-1, "", ""};
-  if (!p) return r;
-  char buf[65536];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream e(err_file);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  r.err = ss.str();
-  fs::remove(err_file);
-  return r;
-}
+/// Runs the tool (shell syntax).
+Outcome run(const std::string& args) { return dq::test::run_shell(std::string(DQKIT_CLI) + " " + args); }
 
 class SkinCli : public ::testing::Test {
  protected:

@@ -1,13 +1,7 @@
 # dqkit included with add_subdirectory, without Assimp: the consumer builds (and dqkit leaves its
 # build type alone), and the CLI's BVH commands work in a build that has no Assimp at all.
 file(REMOVE_RECURSE ${WORK_DIR})
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed: ${ARGN}\n${out}\n${err}")
-  endif()
-  set(output "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/run.cmake)
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer/subdirectory -B ${WORK_DIR}/build -DDQKIT_SOURCE_DIR=${SOURCE_DIR}
     -DCMAKE_CXX_COMPILER=${CXX})
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build -j 2 --target consumer dqkit_cli)

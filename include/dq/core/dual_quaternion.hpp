@@ -101,8 +101,19 @@ struct DualQuaternion {
   friend constexpr DualQuaternion operator*(const Dual<T>& s, const DualQuaternion& q) noexcept {
     return {q.real * s.real, q.dual * s.real + q.real * s.dual};
   }
-  /// The product: q_r = a_r b_r, q_d = a_r b_d + a_d b_r (three Hamilton products).
+  /// The product: q_r = a_r b_r, q_d = a_r b_d + a_d b_r (three Hamilton products). For float
+  /// the products and the dual part's sum stay in vector registers (bit-identical: the same
+  /// operations in the same order per component).
   friend constexpr DualQuaternion operator*(const DualQuaternion& a, const DualQuaternion& b) noexcept {
+#if DQKIT_VECTOR_EXTENSIONS
+    if constexpr (std::is_same_v<T, float>) {
+      if (!std::is_constant_evaluated()) {
+        const auto br = detail::to_lanes(b.real), bd = detail::to_lanes(b.dual);
+        return {detail::from_lanes(detail::hamilton_lanes(a.real, br)),
+                detail::from_lanes(detail::hamilton_lanes(a.real, bd) + detail::hamilton_lanes(a.dual, br))};
+      }
+    }
+#endif
     return detail::dual_product(a, b, [](const Quaternion<T>& l, const Quaternion<T>& r) { return l * r; });
   }
   constexpr DualQuaternion& operator*=(const DualQuaternion& o) noexcept { return *this = *this * o; }

@@ -290,27 +290,37 @@ struct Quaternion {
 
 namespace detail {
 /// The Hamilton product, written once: the scalar types, the four-lane float product below and
-/// the batch kernels (forward_kinematics.hpp) all compute exactly this, term by term.
+/// the batch kernels (forward_kinematics.hpp) all compute exactly this, term by term. The four
+/// products of each component are summed in pairs, two additions deep instead of three: a chain
+/// of products (forward kinematics, x = x * a) waits for one addition less per product.
 template <class T>
 constexpr Quaternion<T> hamilton(const Quaternion<T>& a, const Quaternion<T>& b) noexcept {
-  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+  return {(a.w * b.w - a.x * b.x) - (a.y * b.y + a.z * b.z), (a.w * b.x + a.x * b.w) + (a.y * b.z - a.z * b.y),
+          (a.w * b.y - a.x * b.z) + (a.y * b.w + a.z * b.x), (a.w * b.z + a.x * b.y) - (a.y * b.x - a.z * b.w)};
 }
 
 #if DQKIT_VECTOR_EXTENSIONS
-/// detail::hamilton with the four components in the lanes of one vector: r = a_w b
-/// + a_x (−b_x, b_w, −b_z, b_y) + a_y (−b_y, b_z, b_w, −b_x) + a_z (−b_z, −b_y, b_x, b_w), summed
-/// in the scalar formula's order (x − y and x + (−y) round alike, so each lane is bit-identical).
-/// Written with the compiler's generic vector extensions, not with intrinsics of one instruction
-/// set: the same source serves every target a translation unit is compiled for (docs/design.md).
+// The four-lane float product. Its left operand stays four scalars, broadcast into the lanes, and
+// results come back as four scalars: GCC then keeps a loop-carried quaternion (x = x * a) in
+// registers; memcpy into and out of vectors sent it through the stack and integer registers,
+// doubling the latency of a chain of products.
+using float4 = float __attribute__((vector_size(16)));
+[[gnu::always_inline]] inline float4 to_lanes(const Quaternion<float>& q) noexcept { return float4{q.w, q.x, q.y, q.z}; }
+[[gnu::always_inline]] inline Quaternion<float> from_lanes(const float4& v) noexcept { return {v[0], v[1], v[2], v[3]}; }
+/// detail::hamilton with the four components in the lanes of one vector: r = (a_w b
+/// + a_x (−b_x, b_w, −b_z, b_y)) + (a_y (−b_y, b_z, b_w, −b_x) + a_z (−b_z, −b_y, b_x, b_w)), summed
+/// in the scalar formula's pairs (x − y and x + (−y) round alike, as do (−x) + (−y) and −(x + y),
+/// so each lane is bit-identical). Written with the compiler's generic vector extensions, not
+/// with intrinsics of one instruction set: the same source serves every target a translation
+/// unit is compiled for (docs/design.md).
+[[gnu::always_inline]] inline float4 hamilton_lanes(const Quaternion<float>& a, const float4& vb) noexcept {
+  const float4 b1 = __builtin_shufflevector(vb, vb, 1, 0, 3, 2) * float4{-1, 1, -1, 1};
+  const float4 b2 = __builtin_shufflevector(vb, vb, 2, 3, 0, 1) * float4{-1, 1, 1, -1};
+  const float4 b3 = __builtin_shufflevector(vb, vb, 3, 2, 1, 0) * float4{-1, -1, 1, 1};
+  return (a.w * vb + a.x * b1) + (a.y * b2 + a.z * b3);
+}
 inline Quaternion<float> hamilton_lanes(const Quaternion<float>& a, const Quaternion<float>& b) noexcept {
-  using f4 = float __attribute__((vector_size(16)));
-  const f4 vb{b.w, b.x, b.y, b.z};
-  const f4 b1 = __builtin_shufflevector(vb, vb, 1, 0, 3, 2) * f4{-1, 1, -1, 1};
-  const f4 b2 = __builtin_shufflevector(vb, vb, 2, 3, 0, 1) * f4{-1, 1, 1, -1};
-  const f4 b3 = __builtin_shufflevector(vb, vb, 3, 2, 1, 0) * f4{-1, -1, 1, 1};
-  const f4 r = ((a.w * vb + a.x * b1) + a.y * b2) + a.z * b3;
-  return {r[0], r[1], r[2], r[3]};
+  return from_lanes(hamilton_lanes(a, to_lanes(b)));
 }
 #endif
 }  // namespace detail

@@ -5,6 +5,7 @@
 #include <dq/dq.hpp>
 #include <dq/io/bvh.hpp>
 #include <dq/skin/shapes.hpp>
+#include <dq/skin/skinning.hpp>
 #ifdef DQKIT_CONSUMER_RENDER
 #include <dq/render/render.hpp>
 #endif
@@ -14,6 +15,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 int main(int argc, char** argv) {
   const auto turn = dq::DualQuaternion<double>::from_rotation(
@@ -31,6 +33,15 @@ int main(int argc, char** argv) {
   const dq::CylinderShape cylinder;
   const auto skin = dq::build_skin(dq::two_bone_cylinder(cylinder));
   if (!skin || skin->vertex_count() != static_cast<std::size_t>(cylinder.rings * cylinder.segments + 2)) return 5;
+  // Both bones moved by (0, 1, 0): every vertex moves by it, with DQS as with any method.
+  const std::vector<dq::DualQuaternion<double>> bones(2, dq::DualQuaternion<double>::from_translation({0, 1, 0}));
+  dq::SkinPalette palette(2);
+  dq::update_palette(*skin, bones, palette);
+  std::vector<float> x(skin->vertex_count()), y(x.size()), z(x.size());
+  const dq::SkinningJob job{.skin = &*skin, .palette = &palette, .out = {.px = x, .py = y, .pz = z}, .count = x.size()};
+  if (!job.validate()) return 5;
+  job.run();
+  if (!(std::abs(y[0] - (skin->py()[0] + 1)) < 1e-5f)) return 5;
 #ifdef DQKIT_CONSUMER_RENDER
   // A triangle over the image's centre, seen head-on: the centre pixel takes its colour.
   auto renderer = dq::render::Renderer::create({.width = 64, .height = 64, .samples = 1});
