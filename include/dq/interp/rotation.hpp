@@ -56,7 +56,7 @@ Quaternion<T> slerp_shortest_values(const Quaternion<T>& a, const Quaternion<T>&
   const T chord = sqrt(dot(difference, difference));
   const T omega = T(2) * asin(min(chord / T(2), T(1)));
   T wa, wb;
-  if (omega * omega < square_root_epsilon<T>) {
+  if (omega * omega < square_root_epsilon<real_t<T>>) {
     const T s = T(1) - t, w2 = omega * omega / T(6);
     wa = s * (T(1) + (T(1) - s * s) * w2);
     wb = t * (T(1) + (T(1) - t * t) * w2);
