@@ -147,8 +147,9 @@ int main(int argc, char** argv) {
 - **J.** The thesis' SLERP count "10 + 5, 4 sin/cos, 2 div" omits the dot product that gives Ω (4 + 3),
   uses 4 trig calls where the formula has acos and three sines, and counts 2 divisions where the two
   weights need 2 divisions each or 1 reciprocal and 2 multiplications. Measured: the textbook formula
-  above. dqkit's slerp (a · exp(t · log(a* b)), with its inputs normalized against drift) costs more,
-  and in exchange has no failure case (docs/interpolation.md).
+  above. dqkit's slerp of plain values (its inputs normalized against drift, Ω = 2 asin(|a − b|/2),
+  the weights from one sincos, their series at small Ω) costs more, and in exchange has no failure
+  case (docs/interpolation.md); derivative types take a · exp(t · log(a* b)).
 - **K.** sclerp is a product, a logarithm, an exponential and another product of dual quaternions.
 - **L.** Renormalization: a dual quaternion needs one square root and a handful of products; a drifted
   rotation matrix needs Gram–Schmidt (three normalizations and a cross product) or polar iterations,
