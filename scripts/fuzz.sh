@@ -8,7 +8,9 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 scripts/deps.sh
 build=build/fuzz
-CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDQKIT_FUZZ=ON \
+# -O1 with line tables only: stack traces with file and line, lighter to build than full debug
+# information.
+CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" -DDQKIT_FUZZ=ON \
   -DDQKIT_BUILD_TESTS=OFF -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_EXAMPLES=OFF >/dev/null
 targets=$(cmake --build "$build" --target help | sed -n 's/^\.\.\. \(fuzz_[a-z_]*\).*/\1/p' | sort -u)
 cmake --build "$build" -j "$(nproc)" --target $targets dqkit_cli
