@@ -26,7 +26,7 @@ class EglContext final : public Context {
   }
   void acquire() const override { eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_); }
   void release() const override { eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT); }
-  bool present(unsigned, int, int) override { return false; }
+  bool present(unsigned, int, int, const std::function<void()>&) override { return false; }
   EGLDisplay display_ = EGL_NO_DISPLAY;
   EGLContext context_ = EGL_NO_CONTEXT;
 };

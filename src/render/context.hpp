@@ -18,12 +18,9 @@ class Context {
   /// if it is another (GLVND refuses an EGL context on a thread where a GLX context is current).
   void make_current() const;
   /// Windows: copies the framebuffer object `fbo` (width × height) to the window, calls `overlay`
-  /// (if set), shows it and handles events; returns false once the window was closed. Headless:
-  /// nothing, false.
-  virtual bool present(unsigned fbo, int width, int height) = 0;
-  /// Windows: what present() draws over the image before the swap (Renderer::present sets it for
-  /// the call).
-  std::function<void()> overlay;
+  /// (if set) to draw over it, shows it and handles events; returns false once the window was
+  /// closed. Headless: nothing, false.
+  virtual bool present(unsigned fbo, int width, int height, const std::function<void()>& overlay) = 0;
   /// Windows: what the user did during the last present(). Headless: nothing.
   virtual WindowInput input() const { return {}; }
   /// Windows: the GLFWwindow*. Headless: nullptr.

@@ -325,9 +325,7 @@ void Renderer::Impl::resolve() {
 bool Renderer::present(const std::function<void()>& overlay) {
   Impl& g = *impl_;
   g.resolve();
-  g.context->overlay = overlay;
-  const bool open = g.context->present(g.resolve_fbo, width(), height());
-  g.context->overlay = nullptr;
+  const bool open = g.context->present(g.resolve_fbo, width(), height(), overlay);
   glBindFramebuffer(GL_FRAMEBUFFER, g.msaa_fbo);
   return open;
 }

@@ -38,7 +38,7 @@ class GlfwContext final : public Context {
   }
   void acquire() const override { glfwMakeContextCurrent(window_); }
   void release() const override { glfwMakeContextCurrent(nullptr); }
-  bool present(unsigned fbo, int width, int height) override {
+  bool present(unsigned fbo, int width, int height, const std::function<void()>& overlay) override {
     make_current();
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_, &w, &h);
