@@ -11,37 +11,14 @@
 
 #include "dq/core/series.hpp"
 #include "dq/interp/rotation.hpp"
+#include "vector_types.hpp"
 
 namespace dq::simd {
 
 namespace {
 
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-// Wide vectors pass by value only inside the target functions, where everything is inlined
-// (`flatten`): the ABI note GCC gives for the helpers' signatures does not apply.
-#pragma GCC diagnostic ignored "-Wpsabi"
-// Vectors of N floats. (Spelled out per width: GCC drops `vector_size` with a size that depends on
-// a template parameter, silently leaving a plain float.)
-using float4 = float __attribute__((vector_size(16)));
-using float8 = float __attribute__((vector_size(32)));
-using float16 = float __attribute__((vector_size(64)));
-template <int N>
-struct VectorOf;
-template <>
-struct VectorOf<4> {
-  using type = float4;
-};
-template <>
-struct VectorOf<8> {
-  using type = float8;
-};
-template <>
-struct VectorOf<16> {
-  using type = float16;
-};
-template <int N>
-using vec = typename VectorOf<N>::type;
-static_assert(sizeof(vec<8>) == 8 * sizeof(float));
+using kernels::vec;
 
 /// N lanes that behave as a scalar for the generic formulas (T(2), T(0.5) broadcast a constant).
 template <int N>
@@ -82,9 +59,7 @@ constexpr auto kSinc = detail::series_coefficients<float, 8>([](std::size_t k) {
 
 template <int N>
 [[gnu::always_inline]] inline Lanes<N> load(const float* p) {
-  vec<N> v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
+  return kernels::load_as<vec<N>>(p);
 }
 template <int N>
 [[gnu::always_inline]] inline void store(float* p, const Lanes<N>& x) {

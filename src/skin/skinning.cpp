@@ -9,6 +9,7 @@
 #include "dq/convert/matrix.hpp"
 #include "dq/simd/batch.hpp"
 #include "dq/util/assert.hpp"
+#include "../simd/vector_types.hpp"
 
 namespace dq {
 
@@ -80,37 +81,8 @@ template <class V>
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
 // The vector types, with root and copysign_of on them (declared before the formulas that call
 // them: the lookup of a dependent name finds no overload declared later for a built-in type).
-#pragma GCC diagnostic ignored "-Wpsabi"  // wide vectors pass by value only inside flattened targets
-using float4 = float __attribute__((vector_size(16)));
-using float8 = float __attribute__((vector_size(32)));
-using float16 = float __attribute__((vector_size(64)));
-using int4 = std::int32_t __attribute__((vector_size(16)));
-using int8 = std::int32_t __attribute__((vector_size(32)));
-using int16 = std::int32_t __attribute__((vector_size(64)));
-template <int N>
-struct VectorOf;
-template <>
-struct VectorOf<4> {
-  using type = float4;
-  using bits = int4;
-};
-template <>
-struct VectorOf<8> {
-  using type = float8;
-  using bits = int8;
-};
-template <>
-struct VectorOf<16> {
-  using type = float16;
-  using bits = int16;
-};
+using namespace kernels;  // the vector types (src/simd/vector_types.hpp)
 
-template <class T>
-[[gnu::always_inline]] inline T load_as(const float* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
 template <class F, class I = typename VectorOf<static_cast<int>(sizeof(F) / sizeof(float))>::bits>
 [[gnu::always_inline]] inline F root(F x) {
   F r;

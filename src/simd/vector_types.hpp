@@ -1,0 +1,57 @@
+// The compiler's generic vector types of 4, 8 and 16 floats (and of 32-bit integers, for bit
+// operations) used by the kernels per instruction set: src/simd/batch.cpp and
+// src/skin/skinning.cpp. Private to dqkit. They pass by value only inside target functions that
+// inline everything (`flatten`): GCC's -Wpsabi note on the helpers' signatures does not apply, and
+// is silenced for the files that include this header.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+
+#include "dq/core/scalar.hpp"
+
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+namespace dq::kernels {
+
+// Spelled out per width: GCC drops `vector_size` with a size that depends on a template
+// parameter, silently leaving a plain float.
+using float4 = float __attribute__((vector_size(16)));
+using float8 = float __attribute__((vector_size(32)));
+using float16 = float __attribute__((vector_size(64)));
+using int4 = std::int32_t __attribute__((vector_size(16)));
+using int8 = std::int32_t __attribute__((vector_size(32)));
+using int16 = std::int32_t __attribute__((vector_size(64)));
+
+/// The vector of N floats (`type`) and of N 32-bit integers (`bits`).
+template <int N>
+struct VectorOf;
+template <>
+struct VectorOf<4> {
+  using type = float4;
+  using bits = int4;
+};
+template <>
+struct VectorOf<8> {
+  using type = float8;
+  using bits = int8;
+};
+template <>
+struct VectorOf<16> {
+  using type = float16;
+  using bits = int16;
+};
+template <int N>
+using vec = typename VectorOf<N>::type;
+static_assert(sizeof(vec<8>) == 8 * sizeof(float));
+
+/// A vector loaded from `p` (no alignment required).
+template <class T>
+[[gnu::always_inline]] inline T load_as(const float* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+}  // namespace dq::kernels
+#endif
