@@ -11,43 +11,18 @@
 
 #include "dq/core/series.hpp"
 #include "dq/interp/rotation.hpp"
-#include "vector_types.hpp"
+#include "lanes.hpp"
 
 namespace dq::simd {
 
 namespace {
 
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-using kernels::vec;
+using kernels::Lanes;
+using kernels::load;
+using kernels::polynomial;
+using kernels::store;
 
-/// N lanes that behave as a scalar for the generic formulas (T(2), T(0.5) broadcast a constant).
-template <int N>
-struct Lanes {
-  vec<N> v;
-  [[gnu::always_inline]] Lanes() : v{} {}
-  [[gnu::always_inline]] Lanes(vec<N> x) : v(x) {}          // NOLINT: implicit, as a scalar
-  [[gnu::always_inline]] Lanes(float s) : v(vec<N>{} + s) {}  // NOLINT
-  [[gnu::always_inline]] friend Lanes operator+(Lanes a, Lanes b) { return a.v + b.v; }
-  [[gnu::always_inline]] friend Lanes operator-(Lanes a, Lanes b) { return a.v - b.v; }
-  [[gnu::always_inline]] friend Lanes operator*(Lanes a, Lanes b) { return a.v * b.v; }
-  [[gnu::always_inline]] friend Lanes operator/(Lanes a, Lanes b) { return a.v / b.v; }
-  [[gnu::always_inline]] friend Lanes operator-(Lanes a) { return -a.v; }
-  /// Lane by lane: a where x < y, else b.
-  [[gnu::always_inline]] friend Lanes select_less(Lanes x, Lanes y, Lanes a, Lanes b) { return x.v < y.v ? a.v : b.v; }
-  [[gnu::always_inline]] friend Lanes sqrt(Lanes a) {
-    vec<N> r;
-    for (int i = 0; i < N; ++i) r[i] = __builtin_sqrtf(a.v[i]);  // one vector instruction (-fno-math-errno)
-    return r;
-  }
-};
-
-/// Σ c_k x^k by Horner's rule on lanes.
-template <int N, std::size_t K>
-[[gnu::always_inline]] inline Lanes<N> polynomial(Lanes<N> x, const std::array<float, K>& c) {
-  Lanes<N> acc = c[K - 1];
-  for (std::size_t k = K - 1; k-- > 0;) acc = acc * x + Lanes<N>(c[k]);
-  return acc;
-}
 // Coefficients in float: atan(z)/z in z² (for z ≤ tan π/8), cos h and sin h / h in h² (for h ≤ π/2).
 constexpr auto kAtanc = detail::series_coefficients<float, 10>([](std::size_t k) { return (k % 2 ? -1.0f : 1.0f) / float(2 * k + 1); });
 constexpr auto kCos = detail::series_coefficients<float, 8>([](std::size_t k) {
@@ -57,14 +32,6 @@ constexpr auto kSinc = detail::series_coefficients<float, 8>([](std::size_t k) {
   return (k % 2 ? -1.0f : 1.0f) * detail::inverse_factorial<float>(2 * k + 1);
 });
 
-template <int N>
-[[gnu::always_inline]] inline Lanes<N> load(const float* p) {
-  return kernels::load_as<vec<N>>(p);
-}
-template <int N>
-[[gnu::always_inline]] inline void store(float* p, const Lanes<N>& x) {
-  std::memcpy(p, &x.v, sizeof x.v);
-}
 template <int N>
 [[gnu::always_inline]] inline DualQuaternion<Lanes<N>> load8(ConstRows r, std::size_t i) {
   return {Quaternion<Lanes<N>>(load<N>(r.rw + i), load<N>(r.rx + i), load<N>(r.ry + i), load<N>(r.rz + i)),
