@@ -20,6 +20,7 @@
 #include "dq/interop/eigen.hpp"
 #include "dq/interop/glm.hpp"
 #include "dq/simd/batch.hpp"
+#include "dq/simd/pose_blocks.hpp"
 #include "machine.hpp"
 
 namespace {
@@ -70,7 +71,9 @@ struct Skeletons {
   std::vector<int> parents;
   std::size_t poses;
   DualQuaternionSoAStorage<float> local, model;
-  explicit Skeletons(std::size_t n) : poses(n), local(kJoints, n), model(kJoints, n) {
+  DualQuaternionBlockStorage<float> block_local, block_model;  // the same poses in blocks of 16
+  explicit Skeletons(std::size_t n)
+      : poses(n), local(kJoints, n), model(kJoints, n), block_local(kJoints, n), block_model(kJoints, n) {
     std::mt19937 rng(7);
     parents.push_back(-1);
     for (std::size_t j = 1; j < kJoints; ++j) parents.push_back(j % 8 == 1 ? 0 : static_cast<int>(j) - 1);
@@ -80,8 +83,11 @@ struct Skeletons {
       for (std::size_t p = 0; p < n; ++p)
         v.set(j, p, DualQuaternion<float>::from_rotation_translation(Quaternion<float>(g(rng), g(rng), g(rng), g(rng)).normalized(),
                                                                       {g(rng), g(rng), g(rng)}));
+    for (std::size_t j = 0; j < kJoints; ++j)
+      for (std::size_t p = 0; p < n; ++p) block_local.view().set(j, p, v.get(j, p));
   }
   ForwardKinematicsJob<float> job() { return {parents, local.view(), model.view(), 0, poses}; }
+  BlockedForwardKinematicsJob<float> blocked_job() { return {parents, block_local.view(), block_model.view(), 0, block_local.view().blocks}; }
 };
 Skeletons& skeletons(std::size_t n) {
   static Skeletons small(10'000), large(100'000);
@@ -109,6 +115,27 @@ void FkDispatched(benchmark::State& state) {
       (void)simd::run_parallel(job, threads, 1024);
     benchmark::ClobberMemory();
   }
+  report_fk(state, poses);
+}
+/// The same poses in blocks of 16 (dq/anim/pose_blocks.hpp): two streams instead of 24.
+void FkBlocksDispatched(benchmark::State& state) {
+  const auto poses = static_cast<std::size_t>(state.range(0));
+  const auto threads = static_cast<unsigned>(state.range(1));
+  Skeletons& s = skeletons(poses);
+  const BlockedForwardKinematicsJob<float> job = s.blocked_job();
+  state.SetLabel(std::string(simd::to_string(simd::current_target())));
+  for (auto _ : state) {
+    if (threads == 1)
+      simd::run(job);
+    else
+      (void)simd::run_parallel(job, threads, 64);
+    benchmark::ClobberMemory();
+  }
+  // Checked once: bit for bit the joint-major job's result.
+  s.job().run();
+  for (std::size_t p = 0; p < poses; p += poses / 7)
+    for (std::size_t j = 0; j < kJoints; ++j)
+      if (!(s.block_model.view().get(j, p) == s.model.view().get(j, p))) state.SkipWithError("blocked and joint-major results differ");
   report_fk(state, poses);
 }
 void FkScalarJob(benchmark::State& state) {
@@ -316,6 +343,7 @@ BENCHMARK(Copy)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK(Triad)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK(PeakFma);
 BENCHMARK(FkDispatched)->Args({10'000, 1})->Args({10'000, 2})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
+BENCHMARK(FkBlocksDispatched)->Args({10'000, 1})->Args({10'000, 2})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
 BENCHMARK(FkScalarJob)->Arg(10'000)->Arg(100'000)->UseRealTime();
 BENCHMARK(FkEigenPerPose)->Arg(10'000)->UseRealTime();
 BENCHMARK(FkOneSkeletonDualQuaternion);

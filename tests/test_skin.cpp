@@ -20,6 +20,7 @@
 #include "dq/skin/scene_skin.hpp"
 #include "dq/skin/shapes.hpp"
 #include "dq/skin/skinning.hpp"
+#include "simd_targets.hpp"
 #include "support.hpp"
 
 #if defined(DQKIT_TEST_IMPORT)
@@ -305,17 +306,7 @@ TEST(Skinning, ScaledBindsLandWhereTheMeshTransformPutsThem) {
 
 // ---- the vector kernels against the scalar path ---------------------------------------------------
 
-/// Every instruction set this CPU has (simd::use_target; scalar first), restoring the best after.
-template <class F>
-void for_each_target(F f) {
-  for (simd::Target t : {simd::Target::scalar, simd::Target::sse2, simd::Target::avx2, simd::Target::avx512}) {
-    if (static_cast<int>(t) > static_cast<int>(simd::best_target())) break;
-    ASSERT_EQ(simd::use_target(t), t);
-    SCOPED_TRACE(std::string(simd::to_string(t)));
-    f(t);
-  }
-  simd::use_target(simd::Target::avx512);
-}
+using test::for_each_target;
 
 /// A skin with exactly `slots` slots whose vertex count is no multiple of any vector width, with
 /// tangents, and (when `scaled`) binds with scale and shear and bone scales.

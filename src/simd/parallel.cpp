@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "dq/simd/batch.hpp"
+#include "dq/simd/pose_blocks.hpp"
 
 #if defined(DQKIT_HAVE_TBB)
 #include <tbb/blocked_range.h>
@@ -13,27 +14,16 @@
 namespace dq::simd {
 
 namespace {
-template <class T>
-void run_part(const ForwardKinematicsJob<T>& part) {
-  if constexpr (std::is_same_v<T, float>)
-    run(part);
-  else
-    part.run();
-}
-}  // namespace
 
-template <class T>
-Status run_parallel(const ForwardKinematicsJob<T>& job, unsigned threads, std::size_t grain) {
-  if (Status s = job.validate(); !s) return s;
+/// Calls part(begin, count) on ranges that split [first, first + count), each at least `grain`
+/// long, on oneTBB's workers (at most `threads` of them; 0: all).
+template <class Part>
+void split(std::size_t first, std::size_t count, unsigned threads, std::size_t grain, const Part& part) {
+  grain = std::max<std::size_t>(1, grain);
 #if defined(DQKIT_HAVE_TBB)
   auto body = [&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(job.first_pose, job.first_pose + job.pose_count, std::max<std::size_t>(1, grain)),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        ForwardKinematicsJob<T> part = job;
-                        part.first_pose = r.begin();
-                        part.pose_count = r.size();
-                        run_part(part);
-                      });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, first + count, grain),
+                      [&](const tbb::blocked_range<std::size_t>& r) { part(r.begin(), r.size()); });
   };
   if (threads == 0 || threads >= std::thread::hardware_concurrency()) {
     body();
@@ -45,21 +35,50 @@ Status run_parallel(const ForwardKinematicsJob<T>& job, unsigned threads, std::s
   // Without oneTBB (or under ThreadSanitizer, which cannot see oneTBB's uninstrumented
   // synchronization): one thread per range, started for this call.
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  const std::size_t parts = std::clamp<std::size_t>(job.pose_count / std::max<std::size_t>(1, grain), 1, threads);
-  const std::size_t chunk = (job.pose_count + parts - 1) / parts;
+  const std::size_t parts = std::clamp<std::size_t>(count / grain, 1, threads);
+  const std::size_t chunk = (count + parts - 1) / parts;
   std::vector<std::jthread> workers;
-  for (std::size_t k = 0; k < parts; ++k) {
-    ForwardKinematicsJob<T> part = job;
-    part.first_pose = job.first_pose + k * chunk;
-    if (part.first_pose >= job.first_pose + job.pose_count) break;
-    part.pose_count = std::min(chunk, job.first_pose + job.pose_count - part.first_pose);
-    workers.emplace_back([part] { run_part(part); });
-  }
+  for (std::size_t begin = first; begin < first + count; begin += chunk)
+    workers.emplace_back([&part, begin, n = std::min(chunk, first + count - begin)] { part(begin, n); });
 #endif
+}
+
+/// Float jobs with the dispatched product, others with the job's own.
+template <class Job>
+void run_part(const Job& part) {
+  if constexpr (std::is_same_v<std::remove_const_t<typename decltype(Job::model)::value_type>, float>)
+    run(part);
+  else
+    part.run();
+}
+
+}  // namespace
+
+template <class T>
+Status run_parallel(const ForwardKinematicsJob<T>& job, unsigned threads, std::size_t grain) {
+  if (Status s = job.validate(); !s) return s;
+  split(job.first_pose, job.pose_count, threads, grain, [&](std::size_t first, std::size_t count) {
+    ForwardKinematicsJob<T> part = job;
+    part.first_pose = first, part.pose_count = count;
+    run_part(part);
+  });
+  return {};
+}
+
+template <class T>
+Status run_parallel(const BlockedForwardKinematicsJob<T>& job, unsigned threads, std::size_t grain) {
+  if (Status s = job.validate(); !s) return s;
+  split(job.first_block, job.block_count, threads, grain, [&](std::size_t first, std::size_t count) {
+    BlockedForwardKinematicsJob<T> part = job;
+    part.first_block = first, part.block_count = count;
+    run_part(part);
+  });
   return {};
 }
 
 template Status run_parallel(const ForwardKinematicsJob<float>&, unsigned, std::size_t);
 template Status run_parallel(const ForwardKinematicsJob<double>&, unsigned, std::size_t);
+template Status run_parallel(const BlockedForwardKinematicsJob<float>&, unsigned, std::size_t);
+template Status run_parallel(const BlockedForwardKinematicsJob<double>&, unsigned, std::size_t);
 
 }  // namespace dq::simd

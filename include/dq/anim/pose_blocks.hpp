@@ -1,0 +1,149 @@
+// Many poses in blocks of 16 (an array of structures of arrays, "AoSoA"), for forward kinematics
+// at the memory limit. In the joint-major layout of DualQuaternionSoA, one joint row of a batch
+// is 24 streams (eight components each of the local, parent and model rows); here the 16 poses of
+// a block keep all their joints together, one joint after the other, so a block's forward
+// kinematics reads the local transforms as one sequential stream, writes the model transforms as
+// another, and finds each parent in the block it is writing (in L1 or L2 cache).
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <memory>
+#include <new>
+#include <span>
+#include <string>
+#include <type_traits>
+
+#include "dq/anim/forward_kinematics.hpp"
+
+namespace dq {
+
+/// Dual quaternions of many poses in blocks of `lanes` = 16 poses. Component c (real w, x, y, z,
+/// dual w, x, y, z) of joint j in pose p is at
+///   data[((p / 16 · joints + j) · 8 + c) · 16 + p % 16],
+/// so one joint of one block is 8 × 16 contiguous values (a 64-byte cache line per component in
+/// float), and a block holds all the joints of its 16 poses. The caller owns the storage
+/// (DualQuaternionBlockStorage below allocates it); `DualQuaternionBlocks<const T>` is a read-only
+/// view, and a mutable view converts to it.
+template <class T>
+struct DualQuaternionBlocks {
+  using value_type = std::remove_const_t<T>;
+  static constexpr std::size_t lanes = 16;                   ///< poses per block
+  static constexpr std::size_t joint_values = 8 * lanes;     ///< values of one joint in one block
+
+  std::span<T> data;
+  std::size_t joints = 0;
+  std::size_t blocks = 0;  ///< room for blocks × 16 poses
+
+  std::size_t poses() const noexcept { return blocks * lanes; }
+  /// The 8 × 16 values of `joint` in `block`: component c of the block's pose l at [c · 16 + l].
+  T* joint_block(std::size_t block, std::size_t joint) const noexcept { return data.data() + (block * joints + joint) * joint_values; }
+
+  DualQuaternion<value_type> get(std::size_t joint, std::size_t pose) const {
+    DQ_PRECONDITION(joint < joints && pose < poses(), "DualQuaternionBlocks::get: joint or pose out of range",
+                    detail::nan_dual_quaternion<value_type>());
+    const T* v = joint_block(pose / lanes, joint) + pose % lanes;
+    return {v[0], v[lanes], v[2 * lanes], v[3 * lanes], v[4 * lanes], v[5 * lanes], v[6 * lanes], v[7 * lanes]};
+  }
+  void set(std::size_t joint, std::size_t pose, const DualQuaternion<value_type>& q) const
+    requires(!std::is_const_v<T>)
+  {
+    DQ_PRECONDITION(joint < joints && pose < poses(), "DualQuaternionBlocks::set: joint or pose out of range");
+    T* v = joint_block(pose / lanes, joint) + pose % lanes;
+    const value_type c[8] = {q.real.w, q.real.x, q.real.y, q.real.z, q.dual.w, q.dual.x, q.dual.y, q.dual.z};
+    for (std::size_t k = 0; k < 8; ++k) v[k * lanes] = c[k];
+  }
+
+  operator DualQuaternionBlocks<const T>() const  // NOLINT: implicit, like span<T> to span<const T>
+    requires(!std::is_const_v<T>)
+  {
+    return {data, joints, blocks};
+  }
+};
+
+/// Owning storage for DualQuaternionBlocks: allocated once, at construction, aligned to 64 bytes
+/// (every component row of a block is a whole cache line in float), zero-initialized, with room
+/// for `poses` rounded up to whole blocks.
+template <class T>
+class DualQuaternionBlockStorage {
+ public:
+  static constexpr std::size_t alignment = 64;
+
+  DualQuaternionBlockStorage(std::size_t joints, std::size_t poses)
+      : joints_(joints),
+        blocks_((poses + DualQuaternionBlocks<T>::lanes - 1) / DualQuaternionBlocks<T>::lanes),
+        size_(joints_ * blocks_ * DualQuaternionBlocks<T>::joint_values),
+        data_(allocate(size_)) {}
+
+  DualQuaternionBlocks<T> view() noexcept { return {std::span<T>(data_.get(), size_), joints_, blocks_}; }
+  DualQuaternionBlocks<const T> view() const noexcept { return {std::span<const T>(data_.get(), size_), joints_, blocks_}; }
+
+ private:
+  struct Free {
+    void operator()(T* p) const noexcept { ::operator delete[](p, std::align_val_t{alignment}); }
+  };
+  static std::unique_ptr<T[], Free> allocate(std::size_t n) {
+    T* p = static_cast<T*>(::operator new[](std::max<std::size_t>(n, 1) * sizeof(T), std::align_val_t{alignment}));
+    std::uninitialized_value_construct_n(p, n);
+    return std::unique_ptr<T[], Free>(p);
+  }
+
+  std::size_t joints_, blocks_, size_;
+  std::unique_ptr<T[], Free> data_;
+};
+
+/// Forward kinematics of the poses in blocks [first_block, first_block + block_count), in the
+/// style of ForwardKinematicsJob: model[j] = model[parent(j)] · local[j] for every pose, block by
+/// block, with the same product (bit for bit) as the joint-major job and as the scalar types.
+/// dq::simd::run (dq/simd/pose_blocks.hpp) runs it with the product vectorized for the CPU.
+template <class T>
+struct BlockedForwardKinematicsJob {
+  std::span<const int> parents;
+  DualQuaternionBlocks<const T> local;
+  DualQuaternionBlocks<T> model;
+  std::size_t first_block = 0;
+  std::size_t block_count = 0;
+
+  Status validate() const {
+    const std::size_t joints = parents.size();
+    for (std::size_t j = 0; j < joints; ++j)
+      if (parents[j] >= static_cast<int>(j)) return Error{"joint " + std::to_string(j) + ": parent does not come before it"};
+    if (local.joints != joints || model.joints != joints) return Error{"the local and model blocks must have one joint per parent entry"};
+    if (local.blocks != model.blocks) return Error{"local and model hold different numbers of blocks"};
+    if (first_block > local.blocks || block_count > local.blocks - first_block) return Error{"block range exceeds the blocks held"};
+    const std::size_t needed = local.blocks * joints * DualQuaternionBlocks<T>::joint_values;
+    if (local.data.size() < needed || model.data.size() < needed) return Error{"a block array is shorter than blocks × joints × 128"};
+    if (overlaps(local.data, model.data)) return Error{"the model blocks overlap the local ones"};
+    return {};
+  }
+
+  /// Runs on the calling thread. Precondition: validate() succeeds (checked; a job that does not
+  /// validate is reported to the precondition handler and does nothing).
+  void run() const {
+    DQ_PRECONDITION(validate().ok(), "BlockedForwardKinematicsJob::run on a job that does not validate");
+    run_blocks([](const T* parent, const T* in, T* out) {
+      constexpr std::size_t L = DualQuaternionBlocks<T>::lanes;
+      auto rows = [](auto* p) { return detail::Row8<std::remove_reference_t<decltype(*p)>>{p, p + L, p + 2 * L, p + 3 * L, p + 4 * L, p + 5 * L, p + 6 * L, p + 7 * L}; };
+      detail::dual_quaternion_product_rows<T>(rows(parent), rows(in), rows(out), 0, L);
+    });
+  }
+
+  /// The job's loops with another implementation of the product of one joint of one block:
+  /// `product(parent, local, model)`, each pointing at 8 × 16 values laid out as joint_block's.
+  /// Roots are copied. Call validate() first.
+  template <class BlockProduct>
+  void run_blocks(BlockProduct product) const {
+    for (std::size_t b = first_block; b < first_block + block_count; ++b)
+      for (std::size_t j = 0; j < parents.size(); ++j) {
+        const T* in = local.joint_block(b, j);
+        T* out = model.joint_block(b, j);
+        const int p = parents[j];
+        if (p < 0)
+          std::copy(in, in + DualQuaternionBlocks<T>::joint_values, out);
+        else
+          product(model.joint_block(b, static_cast<std::size_t>(p)), in, out);
+      }
+  }
+};
+
+}  // namespace dq

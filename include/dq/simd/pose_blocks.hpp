@@ -1,0 +1,26 @@
+// Forward kinematics of poses in blocks of 16 (dq/anim/pose_blocks.hpp) with the product
+// vectorized for the CPU's widest instruction set, chosen at run time as the other batch kernels
+// (dq/simd/batch.hpp); on one thread or on oneTBB's workers.
+#pragma once
+
+#include <cstddef>
+
+#include "dq/anim/pose_blocks.hpp"
+#include "dq/simd/batch.hpp"
+
+namespace dq::simd {
+
+/// Runs the job with the dispatched product: bit for bit job.run()'s result. Precondition:
+/// job.validate().
+void run(const BlockedForwardKinematicsJob<float>& job);
+
+/// Runs a job on oneTBB's persistent worker threads, split into block ranges of at least `grain`
+/// blocks (16 poses each), each written by one task. `threads` limits the workers used (0: every
+/// hardware thread). Float jobs use the dispatched product. Returns the job's validation error
+/// instead of running an invalid job.
+template <class T>
+Status run_parallel(const BlockedForwardKinematicsJob<T>& job, unsigned threads = 0, std::size_t grain = 16);
+extern template Status run_parallel(const BlockedForwardKinematicsJob<float>&, unsigned, std::size_t);
+extern template Status run_parallel(const BlockedForwardKinematicsJob<double>&, unsigned, std::size_t);
+
+}  // namespace dq::simd

@@ -1,0 +1,158 @@
+// Poses in blocks of 16 (dq/anim/pose_blocks.hpp): the documented layout, the blocked forward
+// kinematics against 4x4 matrices in double and bit for bit against the pose-by-pose and the
+// joint-major results, the dispatched kernel on every instruction set the CPU has, threads, and
+// the validation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "dq/convert/matrix.hpp"
+#include "dq/simd/pose_blocks.hpp"
+#include "simd_targets.hpp"
+#include "support.hpp"
+
+namespace {
+
+using namespace dq;
+using test::for_each_target;
+using test::same_bits;
+
+// Two roots, a chain and branches; 37 poses: two full blocks and a partial one.
+const std::vector<int> kParents{-1, 0, 1, 2, 1, 4, -1, 6, 3, 8, 0};
+constexpr std::size_t kPoses = 37;
+
+struct Poses {
+  DualQuaternionBlockStorage<float> local{kParents.size(), kPoses};
+  explicit Poses(unsigned seed) {
+    test::Random rng(seed);
+    for (std::size_t j = 0; j < kParents.size(); ++j)
+      for (std::size_t p = 0; p < kPoses; ++p) local.view().set(j, p, rng.rigid<float>(3));
+  }
+};
+
+void expect_same_bits(const DualQuaternion<float>& a, const DualQuaternion<float>& b, std::size_t j, std::size_t p) {
+  const float* x = &a.real.w;
+  const float* y = &b.real.w;
+  for (int k = 0; k < 8; ++k) ASSERT_TRUE(same_bits(x[k], y[k])) << "joint " << j << " pose " << p << " component " << k;
+}
+
+TEST(PoseBlocks, LayoutIsTheDocumentedOne) {
+  const std::size_t joints = 3, poses = 35;
+  DualQuaternionBlockStorage<float> storage(joints, poses);
+  const DualQuaternionBlocks<float> v = storage.view();
+  EXPECT_EQ(v.blocks, 3u);  // 35 poses in blocks of 16
+  EXPECT_EQ(v.poses(), 48u);
+  EXPECT_EQ(v.data.size(), 3u * joints * 128);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.data.data()) % 64, 0u);
+  for (float x : v.data) ASSERT_EQ(x, 0.0f);  // zero-initialized, padding poses included
+  for (std::size_t j = 0; j < joints; ++j)
+    for (std::size_t p = 0; p < poses; ++p) {
+      const float base = static_cast<float>(1000 * j + 10 * p);
+      v.set(j, p, {base, base + 1, base + 2, base + 3, base + 4, base + 5, base + 6, base + 7});
+    }
+  for (std::size_t j = 0; j < joints; ++j)
+    for (std::size_t p = 0; p < poses; ++p)
+      for (std::size_t c = 0; c < 8; ++c) {
+        const std::size_t at = ((p / 16 * joints + j) * 8 + c) * 16 + p % 16;
+        ASSERT_EQ(v.data[at], static_cast<float>(1000 * j + 10 * p + c)) << j << " " << p << " " << c;
+      }
+  EXPECT_EQ(v.get(2, 34), (DualQuaternion<float>{2340, 2341, 2342, 2343, 2344, 2345, 2346, 2347}));
+}
+
+TEST(PoseBlocks, ForwardKinematicsIsTheMatrixProductAndThePoseByPoseResult) {
+  const Poses in(1);
+  DualQuaternionBlockStorage<float> model(kParents.size(), kPoses);
+  const BlockedForwardKinematicsJob<float> job{kParents, in.local.view(), model.view(), 0, 3};
+  ASSERT_TRUE(job.validate().ok());
+  job.run();
+  for (std::size_t p = 0; p < kPoses; ++p) {
+    // The same product pose by pose (the scalar type's operator*): bit for bit.
+    std::vector<DualQuaternion<float>> local, expected(kParents.size());
+    for (std::size_t j = 0; j < kParents.size(); ++j) local.push_back(in.local.view().get(j, p));
+    local_to_model<DualQuaternion<float>>(kParents, local, expected);
+    // 4x4 matrices in double, chained independently of dqkit's products.
+    std::vector<Mat4<double>> m(kParents.size());
+    for (std::size_t j = 0; j < kParents.size(); ++j) {
+      const Mat4<double> l = to_mat4(local[j].cast<double>());
+      m[j] = kParents[j] < 0 ? l : m[static_cast<std::size_t>(kParents[j])] * l;
+      const DualQuaternion<float> got = model.view().get(j, p);
+      expect_same_bits(got, expected[j], j, p);
+      const Mat4<double> g = to_mat4(got.cast<double>());
+      for (std::size_t k = 0; k < 16; ++k) ASSERT_NEAR(g.m[k], m[j].m[k], 2e-5 * (1 + std::abs(m[j].m[k]))) << j << " " << p;
+    }
+  }
+}
+
+TEST(PoseBlocks, BlockedEqualsTheJointMajorJobBitForBit) {
+  const Poses in(2);
+  DualQuaternionSoAStorage<float> soa_local(kParents.size(), kPoses), soa_model(kParents.size(), kPoses);
+  for (std::size_t j = 0; j < kParents.size(); ++j)
+    for (std::size_t p = 0; p < kPoses; ++p) soa_local.view().set(j, p, in.local.view().get(j, p));
+  ForwardKinematicsJob<float>{kParents, soa_local.view(), soa_model.view(), 0, kPoses}.run();
+  DualQuaternionBlockStorage<float> model(kParents.size(), kPoses);
+  BlockedForwardKinematicsJob<float>{kParents, in.local.view(), model.view(), 0, 3}.run();
+  for (std::size_t j = 0; j < kParents.size(); ++j)
+    for (std::size_t p = 0; p < kPoses; ++p) expect_same_bits(model.view().get(j, p), soa_model.view().get(j, p), j, p);
+}
+
+TEST(PoseBlocks, DispatchedKernelIsTheScalarJobBitForBitAndKeepsToItsBlocks) {
+  const Poses in(3);
+  DualQuaternionBlockStorage<float> expected(kParents.size(), kPoses);
+  BlockedForwardKinematicsJob<float>{kParents, in.local.view(), expected.view(), 0, 3}.run();
+  const float sentinel = std::numeric_limits<float>::quiet_NaN();
+  for_each_target([&](simd::Target) {
+    DualQuaternionBlockStorage<float> got(kParents.size(), kPoses);
+    for (float& x : got.view().data) x = sentinel;
+    simd::run(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), got.view(), 1, 2});  // blocks 1 and 2 only
+    for (std::size_t j = 0; j < kParents.size(); ++j)
+      for (std::size_t p = 0; p < kPoses; ++p) {
+        const DualQuaternion<float> g = got.view().get(j, p);
+        if (p < 16) {
+          ASSERT_TRUE(std::isnan(g.real.w) && std::isnan(g.dual.z)) << "block 0 was written: joint " << j << " pose " << p;
+          continue;
+        }
+        expect_same_bits(g, expected.view().get(j, p), j, p);
+      }
+  });
+}
+
+TEST(PoseBlocks, ThreadsGiveTheSerialResult) {
+  const Poses in(4);
+  DualQuaternionBlockStorage<float> serial(kParents.size(), kPoses), parallel(kParents.size(), kPoses);
+  BlockedForwardKinematicsJob<float>{kParents, in.local.view(), serial.view(), 0, 3}.run();
+  ASSERT_TRUE(simd::run_parallel(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), parallel.view(), 0, 3}, 2, 1).ok());
+  for (std::size_t i = 0; i < serial.view().data.size(); ++i) ASSERT_TRUE(same_bits(serial.view().data[i], parallel.view().data[i])) << i;
+
+  DualQuaternionBlockStorage<double> local(kParents.size(), kPoses), a(kParents.size(), kPoses), b(kParents.size(), kPoses);
+  for (std::size_t j = 0; j < kParents.size(); ++j)
+    for (std::size_t p = 0; p < kPoses; ++p) local.view().set(j, p, in.local.view().get(j, p).cast<double>());
+  BlockedForwardKinematicsJob<double>{kParents, local.view(), a.view(), 0, 3}.run();
+  ASSERT_TRUE(simd::run_parallel(BlockedForwardKinematicsJob<double>{kParents, local.view(), b.view(), 0, 3}, 0, 1).ok());
+  for (std::size_t i = 0; i < a.view().data.size(); ++i) ASSERT_EQ(a.view().data[i], b.view().data[i]) << i;
+}
+
+TEST(PoseBlocks, ValidationSaysWhatIsWrong) {
+  Poses in(5);
+  DualQuaternionBlockStorage<float> model(kParents.size(), kPoses), fewer(kParents.size(), 16), other(kParents.size() + 1, kPoses);
+  auto error_of = [](const BlockedForwardKinematicsJob<float>& job) {
+    const Status s = job.validate();
+    return s ? std::string() : s.error().message;
+  };
+  const BlockedForwardKinematicsJob<float> good{kParents, in.local.view(), model.view(), 0, 3};
+  EXPECT_EQ(error_of(good), "");
+  std::vector<int> late = kParents;
+  late[4] = 5;
+  EXPECT_EQ(error_of({late, in.local.view(), model.view(), 0, 3}), "joint 4: parent does not come before it");
+  EXPECT_EQ(error_of({kParents, in.local.view(), other.view(), 0, 3}), "the local and model blocks must have one joint per parent entry");
+  EXPECT_EQ(error_of({kParents, in.local.view(), fewer.view(), 0, 1}), "local and model hold different numbers of blocks");
+  EXPECT_EQ(error_of({kParents, in.local.view(), model.view(), 2, 2}), "block range exceeds the blocks held");
+  DualQuaternionBlocks<float> short_model = model.view();
+  short_model.data = short_model.data.first(short_model.data.size() - 1);
+  EXPECT_EQ(error_of({kParents, in.local.view(), short_model, 0, 3}), "a block array is shorter than blocks × joints × 128");
+  EXPECT_EQ(error_of({kParents, in.local.view(), in.local.view(), 0, 3}), "the model blocks overlap the local ones");
+  EXPECT_FALSE(simd::run_parallel(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), in.local.view(), 0, 3}).ok());
+}
+
+}  // namespace
