@@ -1,6 +1,7 @@
 // Fuzz target: one file format through the Assimp importer wrapper (the format is fixed at build
-// time by DQKIT_FUZZ_HINT). dqkit's own code must turn whatever Assimp returns into a valid scene
-// or a clear error: every transform finite and unit, every index in range.
+// time: each format's target links a one-line source defining dqkit_fuzz_hint, see
+// fuzz/CMakeLists.txt). dqkit's own code must turn whatever Assimp returns into a valid scene or a
+// clear error: every transform finite and unit, every index in range.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -12,11 +13,13 @@ namespace {
 using dq::fuzz::check;
 }  // namespace
 
+extern const char* const dqkit_fuzz_hint;  // the file format: "gltf", "fbx", ...
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   dq::ImportOptions options;
   options.sample_rate = 10;
   options.isolate = false;  // in-process, so that coverage guides the fuzzer through dqkit's code
-  const dq::Expected<dq::ImportedScene> scene = dq::import_scene_from_memory({data, size}, DQKIT_FUZZ_HINT, options);
+  const dq::Expected<dq::ImportedScene> scene = dq::import_scene_from_memory({data, size}, dqkit_fuzz_hint, options);
   if (!scene) {
     check(!scene.error().message.empty(), "errors say something");
     return 0;
