@@ -107,6 +107,25 @@ TEST(Slerp, ConstantAngularSpeedAndExactEndpoints) {
   }
 }
 
+// slerp takes inputs that are unit to rounding (|q|² within 4 ε of 1) as they are and normalizes
+// the others: either way the result is the slerp of the normalized inputs, here against long
+// double, for inputs exactly unit in long double, rounded to float, and scaled off unit.
+TEST(Slerp, InputsUnitToRoundingOrDriftedGiveTheSameRotation) {
+  Random rng(204);
+  for (int n = 0; n < 2000; ++n) {
+    const Quaternion<long double> a = rng.rotation<long double>(), b = rng.rotation<long double>();
+    const long double t = rng.uniform<long double>(0, 1);
+    const Quaternion<long double> want = slerp(a, b, t);
+    for (float scale : {1.0f, 1.0f + 3e-7f, 1.0f - 3e-7f, 1.001f, 0.5f}) {
+      const Quaternion<float> fa = (a * static_cast<long double>(scale)).cast<float>(), fb = b.cast<float>();
+      const Quaternion<float> got = slerp(fa, fb, static_cast<float>(t));
+      // Float inputs are the long-double ones to 1/2 ulp: 8 ulps covers that and the arithmetic.
+      ASSERT_LE(max_abs_diff(got.cast<long double>(), want), 8 * std::numeric_limits<float>::epsilon()) << n << " scale " << scale;
+      ASSERT_LE(std::abs(static_cast<double>(got.squared_norm()) - 1), 8 * std::numeric_limits<float>::epsilon()) << n;
+    }
+  }
+}
+
 TEST(Slerp, AmbiguousHalfTurnIsReported) {
   const Quaternion<double> a = Quaternion<double>::identity(), b(0, 0, 0, 1);  // π apart
   InterpolationReport report;
