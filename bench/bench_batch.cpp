@@ -4,7 +4,9 @@
 // rate of vector multiply-adds; then forward kinematics of 10,000 and 100,000 skeletons of 64
 // joints (dqkit's run-time dispatched kernel, the scalar job, Eigen Isometry3f pose by pose; one and
 // two threads), one skeleton at a time, transforming points, and composing arrays hot in cache and
-// in DRAM, against Eigen and GLM in the same binary. Every variant's result is checked once,
+// in DRAM, against Eigen and GLM in the same binary; inverse, directions, normalize, DLB and
+// sclerp over 4096 elements hot in cache against GLM, Eigen and dqkit's scalar sclerp per element.
+// Every variant's result is checked once,
 // outside the timing, against dqkit's scalar types. Counters: bytes_per_second and, for the
 // memory-bound cases, `roofline` = achieved bytes/s ÷ the measured copy bandwidth.
 //   build/release/bench/bench_batch --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
@@ -19,6 +21,7 @@
 
 #include "dq/interop/eigen.hpp"
 #include "dq/interop/glm.hpp"
+#include "dq/interp/rigid.hpp"
 #include "dq/simd/batch.hpp"
 #include "dq/simd/pose_blocks.hpp"
 #include "machine.hpp"
@@ -324,6 +327,178 @@ void ComposeEigenIsometry3f(benchmark::State& state) {
   state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
 }
 
+// ---- inverse, directions, normalize, dlb, sclerp over arrays -------------------------------------------
+// Hot in cache (4096 elements, as the compose and slerp cases), each dispatched kernel against the
+// per-element code of a peer on the same data, whose result is checked once outside the timing.
+
+/// 4096 pairs of unit dual quaternions (a, b) in SoA and AoS, directions, the a's scaled by 0.5–2
+/// (for normalize), and outputs.
+struct KernelArrays {
+  static constexpr std::size_t n = 4096;
+  std::vector<float> a[8], b[8], scaled[8], v[3], out[8];
+  std::vector<DualQuaternion<float>> dq_a, dq_b, dq_scaled;
+  KernelArrays() {
+    std::mt19937 rng(5);
+    std::normal_distribution<float> g;
+    std::uniform_real_distribution<float> s(0.5f, 2.0f);
+    auto random_transform = [&] {
+      return DualQuaternion<float>::from_rotation_translation(Quaternion<float>(g(rng), g(rng), g(rng), g(rng)).normalized(), {g(rng), g(rng), g(rng)});
+    };
+    for (std::size_t i = 0; i < n; ++i) dq_a.push_back(random_transform()), dq_b.push_back(random_transform()), dq_scaled.push_back(dq_a[i] * s(rng));
+    auto soa = [](std::vector<float>(&c)[8], const std::vector<DualQuaternion<float>>& q) {
+      for (int k = 0; k < 8; ++k) {
+        c[k].resize(q.size());
+        for (std::size_t i = 0; i < q.size(); ++i) c[k][i] = (&q[i].real.w)[k];
+      }
+    };
+    soa(a, dq_a), soa(b, dq_b), soa(scaled, dq_scaled), soa(out, dq_a);
+    for (auto& x : v)
+      for (std::size_t i = 0; i < n; ++i) x.push_back(g(rng));
+  }
+  static simd::ConstRows rows(const std::vector<float> (&c)[8]) {
+    return {c[0].data(), c[1].data(), c[2].data(), c[3].data(), c[4].data(), c[5].data(), c[6].data(), c[7].data()};
+  }
+  simd::Rows out_rows() { return {out[0].data(), out[1].data(), out[2].data(), out[3].data(), out[4].data(), out[5].data(), out[6].data(), out[7].data()}; }
+  DualQuaternion<float> result(std::size_t i) const {
+    return {out[0][i], out[1][i], out[2][i], out[3][i], out[4][i], out[5][i], out[6][i], out[7][i]};
+  }
+};
+KernelArrays& kernel_arrays() {
+  static KernelArrays k;
+  return k;
+}
+constexpr float kBlendT = 0.3f;
+
+/// Runs a dispatched kernel on the arrays: the timing loop and the rate counter.
+template <class Kernel>
+void run_dispatched(benchmark::State& state, Kernel kernel) {
+  state.SetLabel(std::string(simd::to_string(simd::current_target())));
+  for (auto _ : state) {
+    kernel();
+    benchmark::ClobberMemory();
+  }
+  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * KernelArrays::n), benchmark::Counter::kIsRate);
+}
+/// Runs a peer's per-element loop `out[i] = f(i)`, then checks it once against the dispatched
+/// kernel's result (`same(i, out[i])`, after `kernel()`), outside the timing.
+template <class Out, class F, class Kernel, class Same>
+void run_peer(benchmark::State& state, F f, Kernel kernel, Same same) {
+  std::vector<Out> out(KernelArrays::n);
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < KernelArrays::n; ++i) out[i] = f(i);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  kernel();
+  for (std::size_t i = 0; i < KernelArrays::n; ++i)
+    if (!same(i, out[i])) return state.SkipWithError("the peer and dqkit's kernel disagree");
+  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * KernelArrays::n), benchmark::Counter::kIsRate);
+}
+/// Rotations equal and translations equal to float rounding (GLM's normalization leaves the dual
+/// part's component along the real part, which changes neither).
+bool same_transform(const DualQuaternion<float>& x, const DualQuaternion<float>& y) {
+  const float tolerance = 1e-5f * (1 + norm(y.translation()));
+  return approx_equal(x.real, y.real, 1e-5f) && norm(x.translation() - y.translation()) <= tolerance;
+}
+std::vector<glm::dualquat> to_glm(const std::vector<DualQuaternion<float>>& q) {
+  std::vector<glm::dualquat> g;
+  for (const auto& x : q) g.push_back(glm_interop::to_glm(x));
+  return g;
+}
+
+void InverseDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] { simd::inverse(KernelArrays::rows(k.a), k.out_rows(), KernelArrays::n); });
+}
+void InverseGlmDualquat(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  const std::vector<glm::dualquat> a = to_glm(k.dq_a);
+  run_peer<glm::dualquat>(
+      state, [&](std::size_t i) { return glm::inverse(a[i]); }, [&] { simd::inverse(KernelArrays::rows(k.a), k.out_rows(), KernelArrays::n); },
+      [&](std::size_t i, const glm::dualquat& g) { return approx_equal(glm_interop::from_glm(g), k.result(i), 1e-5f); });
+}
+
+void TransformDirectionsDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] {
+    simd::transform_directions(KernelArrays::rows(k.a), {k.v[0].data(), k.v[1].data(), k.v[2].data()}, {k.out[0].data(), k.out[1].data(), k.out[2].data()},
+                               KernelArrays::n);
+  });
+}
+/// The peers' directions against the kernel's (in out[0..2]).
+template <class V>
+auto same_direction(KernelArrays& k) {
+  return [&k](std::size_t i, const V& d) {
+    return std::abs(d[0] - k.out[0][i]) + std::abs(d[1] - k.out[1][i]) + std::abs(d[2] - k.out[2][i]) <= 1e-5f * (1 + std::abs(d[0]) + std::abs(d[1]) + std::abs(d[2]));
+  };
+}
+void TransformDirectionsGlmMat4(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  std::vector<glm::mat4> m;
+  std::vector<glm::vec3> v;
+  for (std::size_t i = 0; i < KernelArrays::n; ++i) m.push_back(glm_interop::to_glm(to_mat4(k.dq_a[i]))), v.emplace_back(k.v[0][i], k.v[1][i], k.v[2][i]);
+  run_peer<glm::vec3>(
+      state, [&](std::size_t i) { return glm::vec3(m[i] * glm::vec4(v[i], 0.0f)); },
+      [&] {
+        simd::transform_directions(KernelArrays::rows(k.a), {k.v[0].data(), k.v[1].data(), k.v[2].data()}, {k.out[0].data(), k.out[1].data(), k.out[2].data()},
+                                   KernelArrays::n);
+      },
+      same_direction<glm::vec3>(k));
+}
+void TransformDirectionsEigenIsometry3f(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  std::vector<Eigen::Isometry3f> m;
+  std::vector<Eigen::Vector3f> v;
+  for (std::size_t i = 0; i < KernelArrays::n; ++i) m.push_back(eigen::to_isometry(k.dq_a[i])), v.emplace_back(k.v[0][i], k.v[1][i], k.v[2][i]);
+  run_peer<Eigen::Vector3f>(
+      state, [&](std::size_t i) -> Eigen::Vector3f { return m[i].linear() * v[i]; },
+      [&] {
+        simd::transform_directions(KernelArrays::rows(k.a), {k.v[0].data(), k.v[1].data(), k.v[2].data()}, {k.out[0].data(), k.out[1].data(), k.out[2].data()},
+                                   KernelArrays::n);
+      },
+      same_direction<Eigen::Vector3f>(k));
+}
+
+void NormalizeDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] { simd::normalize(KernelArrays::rows(k.scaled), k.out_rows(), KernelArrays::n); });
+}
+void NormalizeGlmDualquat(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  const std::vector<glm::dualquat> q = to_glm(k.dq_scaled);
+  run_peer<glm::dualquat>(
+      state, [&](std::size_t i) { return glm::normalize(q[i]); }, [&] { simd::normalize(KernelArrays::rows(k.scaled), k.out_rows(), KernelArrays::n); },
+      [&](std::size_t i, const glm::dualquat& g) { return approx_equal(glm_interop::from_glm(g), k.result(i), 1e-5f); });
+}
+
+void DlbDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] { simd::dlb(KernelArrays::rows(k.a), KernelArrays::rows(k.b), kBlendT, k.out_rows(), KernelArrays::n); });
+}
+/// What GLM users write for DLB: glm::lerp (the sign-aligned blend, unnormalized) then
+/// glm::normalize (a division by |q_r|, which leaves q_r · q_d ≠ 0: checked on the transform).
+void DlbGlmDualquat(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  const std::vector<glm::dualquat> a = to_glm(k.dq_a), b = to_glm(k.dq_b);
+  run_peer<glm::dualquat>(
+      state, [&](std::size_t i) { return glm::normalize(glm::lerp(a[i], b[i], kBlendT)); },
+      [&] { simd::dlb(KernelArrays::rows(k.a), KernelArrays::rows(k.b), kBlendT, k.out_rows(), KernelArrays::n); },
+      [&](std::size_t i, const glm::dualquat& g) { return same_transform(glm_interop::from_glm(g), k.result(i)); });
+}
+
+void SclerpDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] { simd::sclerp(KernelArrays::rows(k.a), KernelArrays::rows(k.b), kBlendT, k.out_rows(), KernelArrays::n); });
+}
+/// Neither peer has sclerp: dqkit's own scalar dq::sclerp, element by element (AoS).
+void SclerpScalar(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_peer<DualQuaternion<float>>(
+      state, [&](std::size_t i) { return sclerp(k.dq_a[i], k.dq_b[i], kBlendT); },
+      [&] { simd::sclerp(KernelArrays::rows(k.a), KernelArrays::rows(k.b), kBlendT, k.out_rows(), KernelArrays::n); },
+      [&](std::size_t i, const DualQuaternion<float>& q) { return approx_equal(q, k.result(i), 1e-5f * (1 + norm(q.translation()))); });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -355,3 +530,14 @@ BENCHMARK(SlerpEigen);
 BENCHMARK(ComposeDispatched)->Arg(0)->Arg(1);
 BENCHMARK(ComposeGlmDualquat)->Arg(0)->Arg(1);
 BENCHMARK(ComposeEigenIsometry3f)->Arg(0)->Arg(1);
+BENCHMARK(InverseDispatched);
+BENCHMARK(InverseGlmDualquat);
+BENCHMARK(TransformDirectionsDispatched);
+BENCHMARK(TransformDirectionsGlmMat4);
+BENCHMARK(TransformDirectionsEigenIsometry3f);
+BENCHMARK(NormalizeDispatched);
+BENCHMARK(NormalizeGlmDualquat);
+BENCHMARK(DlbDispatched);
+BENCHMARK(DlbGlmDualquat);
+BENCHMARK(SclerpDispatched);
+BENCHMARK(SclerpScalar);

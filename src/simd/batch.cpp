@@ -1,21 +1,39 @@
-// The batch kernels, once per instruction set. Each target's kernel is a function with GCC's
+// The batch kernels, once per instruction set. Each kernel is a struct with its formula on N vector
+// lanes (`lanes<N>`, N elements at a time) and per element in scalar code (`scalar`, for the tail
+// n mod N and the scalar target). One set of target functions runs any kernel: each has GCC's
 // `target` attribute (never a per-file -m flag: an inline function compiled with AVX2 in one file
 // could then be picked by the linker for every caller, docs/design.md) and `flatten`, so that the
 // generic formulas of the scalar types, instantiated on the compiler's vector types, are inlined
-// and compiled for that target.
+// and compiled for that target; `dispatch` picks the target in use.
 #include "dq/simd/batch.hpp"
 
 #include <atomic>
 #include <cstring>
+#include <limits>
 #include <numbers>
 
 #include "dq/core/series.hpp"
+#include "dq/interp/rigid.hpp"
 #include "dq/interp/rotation.hpp"
 #include "lanes.hpp"
 
 namespace dq::simd {
 
 namespace {
+
+// ---- element access --------------------------------------------------------------------------------
+
+DualQuaternion<float> get(ConstRows r, std::size_t i) { return {r.rw[i], r.rx[i], r.ry[i], r.rz[i], r.dw[i], r.dx[i], r.dy[i], r.dz[i]}; }
+void put(Rows r, std::size_t i, const DualQuaternion<float>& q) {
+  r.rw[i] = q.real.w, r.rx[i] = q.real.x, r.ry[i] = q.real.y, r.rz[i] = q.real.z;
+  r.dw[i] = q.dual.w, r.dx[i] = q.dual.x, r.dy[i] = q.dual.y, r.dz[i] = q.dual.z;
+}
+Quaternion<float> get(QuaternionRows<const float> r, std::size_t i) { return {r.w[i], r.x[i], r.y[i], r.z[i]}; }
+void put(QuaternionRows<float> r, std::size_t i, const Quaternion<float>& q) { r.w[i] = q.w, r.x[i] = q.x, r.y[i] = q.y, r.z[i] = q.z; }
+using Xyz = std::array<const float*, 3>;
+using OutXyz = std::array<float*, 3>;
+Vec3<float> get(Xyz p, std::size_t i) { return {p[0][i], p[1][i], p[2][i]}; }
+void put(OutXyz p, std::size_t i, const Vec3<float>& v) { p[0][i] = v.x, p[1][i] = v.y, p[2][i] = v.z; }
 
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
 using kernels::Lanes;
@@ -37,90 +55,328 @@ template <int N>
   return {Quaternion<Lanes<N>>(load<N>(r.rw + i), load<N>(r.rx + i), load<N>(r.ry + i), load<N>(r.rz + i)),
           Quaternion<Lanes<N>>(load<N>(r.dw + i), load<N>(r.dx + i), load<N>(r.dy + i), load<N>(r.dz + i))};
 }
-
-/// The kernels for vectors of N lanes; the tail (n mod N) runs the scalar formula.
 template <int N>
-struct Kernels {
+[[gnu::always_inline]] inline void store8(Rows r, std::size_t i, const DualQuaternion<Lanes<N>>& q) {
+  store<N>(r.rw + i, q.real.w), store<N>(r.rx + i, q.real.x), store<N>(r.ry + i, q.real.y), store<N>(r.rz + i, q.real.z);
+  store<N>(r.dw + i, q.dual.w), store<N>(r.dx + i, q.dual.x), store<N>(r.dy + i, q.dual.y), store<N>(r.dz + i, q.dual.z);
+}
+template <int N>
+[[gnu::always_inline]] inline Quaternion<Lanes<N>> load4(QuaternionRows<const float> r, std::size_t i) {
+  return {load<N>(r.w + i), load<N>(r.x + i), load<N>(r.y + i), load<N>(r.z + i)};
+}
+template <int N>
+[[gnu::always_inline]] inline void store4(QuaternionRows<float> r, std::size_t i, const Quaternion<Lanes<N>>& q) {
+  store<N>(r.w + i, q.w), store<N>(r.x + i, q.x), store<N>(r.y + i, q.y), store<N>(r.z + i, q.z);
+}
+template <int N>
+[[gnu::always_inline]] inline Vec3<Lanes<N>> load3(Xyz p, std::size_t i) {
+  return {load<N>(p[0] + i), load<N>(p[1] + i), load<N>(p[2] + i)};
+}
+template <int N>
+[[gnu::always_inline]] inline void store3(OutXyz p, std::size_t i, const Vec3<Lanes<N>>& v) {
+  store<N>(p[0] + i, v.x), store<N>(p[1] + i, v.y), store<N>(p[2] + i, v.z);
+}
+/// Whether any lane of x is not +0.0 (any bit set): an OR of its 64-bit words, a few instructions.
+template <int N>
+[[gnu::always_inline]] inline bool any(const Lanes<N>& x) {
+  std::uint64_t words[sizeof x.v / 8];
+  std::memcpy(words, &x.v, sizeof x.v);
+  std::uint64_t r = 0;
+  for (const std::uint64_t w : words) r |= w;
+  return r != 0;
+}
+
+/// The scalar formula of kernel K over [first, last), out of line: for the rare blocks whose
+/// inputs a vector formula leaves to it (kept out of the vector loop, whose registers would
+/// otherwise be saved around the call on every iteration).
+template <class K, class... A>
+[[gnu::noinline, gnu::cold]] void scalar_out_of_line(std::size_t first, std::size_t last, A... args) {
+  K::scalar(first, last, args...);
+}
+
+/// x or −x per lane, by the sign of `sign` (−x where sign < 0: the scalar `s < 0 ? −x : x`).
+template <int N>
+[[gnu::always_inline]] inline DualQuaternion<Lanes<N>> negate_where_negative(const Lanes<N>& sign, const DualQuaternion<Lanes<N>>& x) {
+  const Lanes<N> zero = 0.0f;
+  auto q = [&](const Quaternion<Lanes<N>>& p) {
+    return Quaternion<Lanes<N>>(select_less(sign, zero, -p.w, p.w), select_less(sign, zero, -p.x, p.x), select_less(sign, zero, -p.y, p.y),
+                                select_less(sign, zero, -p.z, p.z));
+  };
+  return {q(x.real), q(x.dual)};
+}
+
+/// The dual quaternion product of the scalar types (detail::dual_product over detail::hamilton).
+template <int N>
+[[gnu::always_inline]] inline DualQuaternion<Lanes<N>> product(const DualQuaternion<Lanes<N>>& a, const DualQuaternion<Lanes<N>>& b) {
+  return detail::dual_product(a, b, [](const Quaternion<Lanes<N>>& l, const Quaternion<Lanes<N>>& r) { return detail::hamilton(l, r); });
+}
+
+/// The Hamilton product in the order of operations of the four-lane float product that the scalar
+/// float types use (detail::hamilton_lanes: (a_w b + a_x b1) + (a_y b2 + a_z b3), with the
+/// components of b negated before the sums). Its values are detail::hamilton's but for the sign of
+/// some exact zeros: where hamilton computes x − (y − z) with y = z and x = −0 (−0), this computes
+/// x + (−y + z) (+0). normalized's rebuilt dual part, whose components cancel exactly when the dual
+/// part lies along the real part, is where that shows, so it uses this order, as the scalar does.
+template <int N>
+[[gnu::always_inline]] inline Quaternion<Lanes<N>> float_product(const Quaternion<Lanes<N>>& a, const Quaternion<Lanes<N>>& b) {
+  return {(a.w * b.w + a.x * -b.x) + (a.y * -b.y + a.z * -b.z), (a.w * b.x + a.x * b.w) + (a.y * b.z + a.z * -b.y),
+          (a.w * b.y + a.x * -b.z) + (a.y * b.w + a.z * b.x), (a.w * b.z + a.x * b.y) + (a.y * -b.x + a.z * b.w)};
+}
+
+/// DualQuaternion::normalized on lanes: r = q_r / |q_r|, d = q_d / |q_r|, k = r · d, and the dual
+/// part d − r k, or, where |k| exceeds every component of that (most of d lay along r), the one
+/// rebuilt from the translation, (0, vec(d r*)) r: both computed, one selected per lane, with the
+/// same operations in the same order as the scalar function (|q_r| = √(q_r · q_r), as
+/// Quaternion::norm computes it where q_r · q_r is a normal float). `irregular` is true when a
+/// lane needs one of the scalar function's other branches (then the whole block is left to it):
+/// q_r · q_r not a normal float (a zero, tiny, huge or non-finite real part: the identity, or a
+/// rescaling first), or a non-finite dual part (k not finite), where the scalar choice between the
+/// two dual parts depends on how std::max orders NaN.
+template <int N>
+struct NormalizedLanes {
+  DualQuaternion<Lanes<N>> q;
+  bool irregular;
+};
+template <int N>
+[[gnu::always_inline]] inline NormalizedLanes<N> normalized_lanes(const DualQuaternion<Lanes<N>>& q) {
   using V = Lanes<N>;
-  /// slerp for t in [0, 1], branch-free: the shortest arc's relative rotation r = (w, v) has
-  /// w ≥ 0, so its half angle Ω ∈ [0, π/2]; Ω/|v| from atan with one argument halving (the series
-  /// then converges to float precision in 10 terms), and cos and sinc of tΩ ≤ π/2 from 8 terms.
-  /// Near w = 0 (Ω near π/2) Ω/|v| = (π/2 − atan(w/|v|))/|v|; near |v| = 0 it tends to 1/w, with no
-  /// division by |v|.
-  [[gnu::always_inline]] static void slerp(QuaternionRows<const float> a, QuaternionRows<const float> b, float t,
-                                           QuaternionRows<float> out, std::size_t n) {
-    std::size_t i = 0;
-    const V tt = t, one = 1.0f, zero = 0.0f, half_pi = std::numbers::pi_v<float> / 2;
-    for (; i + N <= n; i += N) {
-      Quaternion<V> qa(load<N>(a.w + i), load<N>(a.x + i), load<N>(a.y + i), load<N>(a.z + i));
-      const Quaternion<V> qb(load<N>(b.w + i), load<N>(b.x + i), load<N>(b.y + i), load<N>(b.z + i));
-      qa = qa * (one / sqrt(dot(qa, qa)));
-      const V sign = select_less(dot(qa, qb), zero, -one, one);
-      Quaternion<V> r = detail::hamilton(qa.conjugate(), qb * sign);
-      r = r * (one / sqrt(dot(r, r)));
-      const Vec3<V> v = r.vec();
-      const V s = sqrt(dot(v, v));
-      // atan(z)/z for z ∈ [0, 1] through z' = z / (1 + √(1 + z²)) ≤ tan π/8: atan z = 2 atan z'.
-      auto atanc = [&](V z) {
-        const V d = one + sqrt(one + z * z), zh = z / d;
-        return V(2.0f) * polynomial(zh * zh, kAtanc) / d;
-      };
-      const V small_angle = atanc(s / r.w) / r.w;                        // w ≥ s: Ω = atan(s/w)
-      const V z = r.w / select_less(s, r.w, one, s);                     // (s < w lanes: unused)
-      const V large_angle = (half_pi - z * atanc(z)) / select_less(s, r.w, one, s);
-      const V omega_over_s = select_less(s, r.w, small_angle, large_angle);
-      const Vec3<V> u = v * (omega_over_s * tt);
-      const V h2 = dot(u, u);
-      const Quaternion<V> e(polynomial(h2, kCos), u * polynomial(h2, kSinc));
-      const Quaternion<V> result = detail::hamilton(qa, e);
-      store<N>(out.w + i, result.w), store<N>(out.x + i, result.x), store<N>(out.y + i, result.y), store<N>(out.z + i, result.z);
-    }
-    for (; i < n; ++i) {
-      const Quaternion<float> q = dq::slerp(Quaternion<float>(a.w[i], a.x[i], a.y[i], a.z[i]), Quaternion<float>(b.w[i], b.x[i], b.y[i], b.z[i]), t);
-      out.w[i] = q.w, out.x[i] = q.x, out.y[i] = q.y, out.z[i] = q.z;
-    }
+  const V n2 = q.real.squared_norm();
+  const V n = sqrt(n2);
+  const Quaternion<V> r = q.real / n;
+  const Quaternion<V> d = q.dual / n;
+  const V k = dot(r, d);
+  const Quaternion<V> p = d - r * k;
+  const Quaternion<V> rebuilt = float_product(Quaternion<V>::pure(float_product(d, r.conjugate()).vec()), r);
+  const V zero = 0.0f;
+  auto abs = [&](const V& x) { return select_less(x, zero, -x, x); };
+  auto max = [](const V& x, const V& y) { return select_less(x, y, y, x); };
+  const V largest = max(max(abs(p.w), abs(p.x)), max(abs(p.y), abs(p.z))), abs_k = abs(k);
+  const Quaternion<V> dual(select_less(largest, abs_k, rebuilt.w, p.w), select_less(largest, abs_k, rebuilt.x, p.x),
+                           select_less(largest, abs_k, rebuilt.y, p.y), select_less(largest, abs_k, rebuilt.z, p.z));
+  // The tests as values that are +0 exactly in the covered lanes and non-zero (or NaN) otherwise:
+  // a vector comparison into a lane mask, in a generic function like this one, is split into
+  // scalar comparisons before it is inlined into the target's function; selects of values are
+  // not. (x − x is +0 for finite x, NaN otherwise; + 0.0f turns a −0 into +0.)
+  const V lowest = std::numeric_limits<float>::min(), highest = std::numeric_limits<float>::max();
+  const V clamped = select_less(n2, lowest, lowest, select_less(highest, n2, highest, n2));  // NaN stays NaN
+  return {{r, dual}, any((clamped - n2) + zero) || any(k - k)};
+}
+
+/// Ω/|v| for a rotation (w, v) with w ≥ 0, whose half angle Ω = atan(|v|/w) is in [0, π/2]:
+/// branch-free, from atan's series with one argument halving (it then converges to float
+/// precision in 10 terms). Near w = 0 (Ω near π/2) as (π/2 − atan(w/|v|))/|v|; near |v| = 0 it
+/// tends to 1/w, with no division by |v|.
+template <int N>
+[[gnu::always_inline]] inline Lanes<N> omega_over_sine(const Lanes<N>& w, const Lanes<N>& s) {
+  using V = Lanes<N>;
+  const V one = 1.0f, half_pi = std::numbers::pi_v<float> / 2;
+  // atan(z)/z for z ∈ [0, 1] through z' = z / (1 + √(1 + z²)) ≤ tan π/8: atan z = 2 atan z'.
+  auto atanc = [&](V z) {
+    const V d = one + sqrt(one + z * z), zh = z / d;
+    return V(2.0f) * polynomial(zh * zh, kAtanc) / d;
+  };
+  const V small_angle = atanc(s / w) / w;                       // w ≥ s: Ω = atan(s/w)
+  const V z = w / select_less(s, w, one, s);                    // (s < w lanes: unused)
+  const V large_angle = (half_pi - z * atanc(z)) / select_less(s, w, one, s);
+  return select_less(s, w, small_angle, large_angle);
+}
+#endif
+
+// ---- the kernels -----------------------------------------------------------------------------------
+
+struct Compose {
+  static void scalar(std::size_t first, std::size_t last, ConstRows a, ConstRows b, Rows out) {
+    detail::dual_quaternion_product_rows<float>(a, b, out, first, last);
   }
-  [[gnu::always_inline]] static void compose(ConstRows a, ConstRows b, Rows out, std::size_t n) {
-    std::size_t i = 0;
-    for (; i + N <= n; i += N) {
-      const DualQuaternion<V> p = detail::dual_product(load8<N>(a, i), load8<N>(b, i),
-                                                       [](const Quaternion<V>& l, const Quaternion<V>& r) { return detail::hamilton(l, r); });
-      store<N>(out.rw + i, p.real.w), store<N>(out.rx + i, p.real.x), store<N>(out.ry + i, p.real.y), store<N>(out.rz + i, p.real.z);
-      store<N>(out.dw + i, p.dual.w), store<N>(out.dx + i, p.dual.x), store<N>(out.dy + i, p.dual.y), store<N>(out.dz + i, p.dual.z);
-    }
-    if (i < n) detail::dual_quaternion_product_rows<float>(a, b, out, i, n);
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows a, ConstRows b, Rows out) {
+    store8<N>(out, i, product(load8<N>(a, i), load8<N>(b, i)));
   }
-  [[gnu::always_inline]] static void transform_points(ConstRows q, std::array<const float*, 3> p, std::array<float*, 3> out,
-                                                      std::size_t n) {
-    std::size_t i = 0;
-    for (; i + N <= n; i += N) {
-      const Vec3<V> r = load8<N>(q, i).transform_point({load<N>(p[0] + i), load<N>(p[1] + i), load<N>(p[2] + i)});
-      store<N>(out[0] + i, r.x), store<N>(out[1] + i, r.y), store<N>(out[2] + i, r.z);
-    }
-    for (; i < n; ++i) {
-      const DualQuaternion<float> d{q.rw[i], q.rx[i], q.ry[i], q.rz[i], q.dw[i], q.dx[i], q.dy[i], q.dz[i]};
-      const Vec3<float> r = d.transform_point({p[0][i], p[1][i], p[2][i]});
-      out[0][i] = r.x, out[1][i] = r.y, out[2][i] = r.z;
-    }
-  }
+#endif
 };
 
-#define DQKIT_TARGET_KERNELS(name, lanes, attribute)                                                                    \
-  [[gnu::target(attribute), gnu::flatten]] void compose_##name(ConstRows a, ConstRows b, Rows out, std::size_t n) {     \
-    Kernels<lanes>::compose(a, b, out, n);                                                                              \
-  }                                                                                                                     \
-  [[gnu::target(attribute), gnu::flatten]] void slerp_##name(QuaternionRows<const float> a, QuaternionRows<const float> b, float t, \
-                                                             QuaternionRows<float> out, std::size_t n) {                \
-    Kernels<lanes>::slerp(a, b, t, out, n);                                                                             \
-  }                                                                                                                     \
-  [[gnu::target(attribute), gnu::flatten]] void transform_points_##name(ConstRows q, std::array<const float*, 3> p,     \
-                                                                        std::array<float*, 3> out, std::size_t n) {     \
-    Kernels<lanes>::transform_points(q, p, out, n);                                                                     \
+struct Inverse {
+  static void scalar(std::size_t first, std::size_t last, ConstRows q, Rows out) {
+    for (std::size_t i = first; i < last; ++i) put(out, i, get(q, i).inverse_unit());
   }
-DQKIT_TARGET_KERNELS(sse2, 4, "sse2")
-DQKIT_TARGET_KERNELS(avx2, 8, "avx2")
-DQKIT_TARGET_KERNELS(avx512, 16, "avx512f")
-#undef DQKIT_TARGET_KERNELS
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows q, Rows out) {
+    store8<N>(out, i, load8<N>(q, i).inverse_unit());
+  }
+#endif
+};
+
+struct TransformPoints {
+  static void scalar(std::size_t first, std::size_t last, ConstRows q, Xyz p, OutXyz out) {
+    for (std::size_t i = first; i < last; ++i) put(out, i, get(q, i).transform_point(get(p, i)));
+  }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows q, Xyz p, OutXyz out) {
+    store3<N>(out, i, load8<N>(q, i).transform_point(load3<N>(p, i)));
+  }
+#endif
+};
+
+struct TransformDirections {
+  static void scalar(std::size_t first, std::size_t last, ConstRows q, Xyz v, OutXyz out) {
+    for (std::size_t i = first; i < last; ++i) put(out, i, get(q, i).transform_direction(get(v, i)));
+  }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows q, Xyz v, OutXyz out) {
+    store3<N>(out, i, load8<N>(q, i).transform_direction(load3<N>(v, i)));  // reads the real part only
+  }
+#endif
+};
+
+/// DualQuaternion::normalized. Blocks with a lane that normalized_lanes does not cover (zero, tiny,
+/// huge or non-finite input) run the scalar function (element by element, so in place too).
+struct Normalize {
+  static void scalar(std::size_t first, std::size_t last, ConstRows q, Rows out) {
+    for (std::size_t i = first; i < last; ++i) put(out, i, get(q, i).normalized());
+  }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows q, Rows out) {
+    const NormalizedLanes<N> r = normalized_lanes(load8<N>(q, i));
+    if (r.irregular) [[unlikely]]
+      return scalar_out_of_line<Normalize>(i, i + N, q, out);
+    store8<N>(out, i, r.q);
+  }
+#endif
+};
+
+/// dq::dlb(a, b, t): ((1 − t) a + t b) with b's sign aligned to a's, normalized, returned with
+/// a's sign. Branch-free but for the blocks with a lane that normalized_lanes does not cover, which
+/// run dq::dlb itself.
+struct Dlb {
+  static void scalar(std::size_t first, std::size_t last, ConstRows a, ConstRows b, float t, Rows out) {
+    for (std::size_t i = first; i < last; ++i) put(out, i, dq::dlb(get(a, i), get(b, i), t));
+  }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows a, ConstRows b, float t, Rows out) {
+    using V = Lanes<N>;
+    const DualQuaternion<V> qa = load8<N>(a, i), qb = load8<N>(b, i);
+    const V wb = select_less(dot(qa.real, qb.real), V(0.0f), V(-t), V(t));
+    const NormalizedLanes<N> blend = normalized_lanes(qa * V(1.0f - t) + qb * wb);
+    if (blend.irregular) [[unlikely]]
+      return scalar_out_of_line<Dlb>(i, i + N, a, b, t, out);
+    store8<N>(out, i, negate_where_negative(dot(blend.q.real, qa.real), blend.q));
+  }
+#endif
+};
+
+struct Slerp {
+  static void scalar(std::size_t first, std::size_t last, QuaternionRows<const float> a, QuaternionRows<const float> b, float t,
+                     QuaternionRows<float> out) {
+    for (std::size_t i = first; i < last; ++i) put(out, i, dq::slerp(get(a, i), get(b, i), t));
+  }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  /// slerp for t in [0, 1], branch-free: the shortest arc's relative rotation r = (w, v) has
+  /// w ≥ 0, so its half angle Ω ∈ [0, π/2]; Ω/|v| from omega_over_sine, and cos and sinc of
+  /// tΩ ≤ π/2 from 8 terms of their series.
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, QuaternionRows<const float> a, QuaternionRows<const float> b, float t,
+                                           QuaternionRows<float> out) {
+    using V = Lanes<N>;
+    const V tt = t, one = 1.0f, zero = 0.0f;
+    Quaternion<V> qa = load4<N>(a, i);
+    const Quaternion<V> qb = load4<N>(b, i);
+    qa = qa * (one / sqrt(dot(qa, qa)));
+    const V sign = select_less(dot(qa, qb), zero, -one, one);
+    Quaternion<V> r = detail::hamilton(qa.conjugate(), qb * sign);
+    r = r * (one / sqrt(dot(r, r)));
+    const Vec3<V> v = r.vec();
+    const Vec3<V> u = v * (omega_over_sine(r.w, sqrt(dot(v, v))) * tt);
+    const V h2 = dot(u, u);
+    const Quaternion<V> e(polynomial(h2, kCos), u * polynomial(h2, kSinc));
+    store4<N>(out, i, detail::hamilton(qa, e));
+  }
+#endif
+};
+
+/// Screw linear interpolation, dq::sclerp(a, b, t), for t in [0, 1], branch-free. The relative
+/// motion d = a* b on the shortest path (negated where its real part's w < 0, as dq::sclerp
+/// chooses), scaled so that its real part p = (w, v) is unit: w = cos Ω, |v| = sin Ω with the half
+/// angle Ω ∈ [0, π/2], and its translation τ = 2 vec(q_d p*). Its screw motion at t, d^t:
+///  - rotation p^t = (cos tΩ, v (Ω/|v|) t sinc tΩ), from the series in (tΩ)² as slerp's;
+///  - translation τ(t) = t τ∥ + κ Rot_u(φ) τ⊥, with τ∥ = (τ · u) u along the axis u = v/|v| and
+///    τ⊥ = τ − τ∥ across it: the part across is (I − R_t)c for the point c of the screw axis, and
+///    (I − R_t)(I − R)⁻¹ restricted to the plane ⊥ u is the rotation by φ = (t − 1)Ω about u
+///    scaled by κ = sin tΩ / sin Ω = t sinc(tΩ) (Ω/|v|) (bounded: Ω ≤ π/2). cos φ and sin φ come
+///    from cos tΩ, sin tΩ and (w, |v|) = (cos Ω, sin Ω) by the angle difference, without a series.
+/// At Ω = 0 (identical rotations, pure translations) u is set to 0 and τ(t) = t τ exactly as the
+/// limit; for |v| tiny but not 0, u's direction is as good as v's and the result does not depend
+/// on it to first order (t − κ cos φ = O(Ω²), sin φ = O(Ω)). Then a d^t, renormalized as dq::sclerp
+/// does.
+struct Sclerp {
+  static void scalar(std::size_t first, std::size_t last, ConstRows a, ConstRows b, float t, Rows out) {
+    for (std::size_t i = first; i < last; ++i) put(out, i, dq::sclerp(get(a, i), get(b, i), t));
+  }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows a, ConstRows b, float t, Rows out) {
+    using V = Lanes<N>;
+    const V tt = t, one = 1.0f, zero = 0.0f;
+    const DualQuaternion<V> qa = load8<N>(a, i);
+    DualQuaternion<V> d = product(qa.conjugate(), load8<N>(b, i));
+    d = negate_where_negative(d.real.w, d);
+    d = d * (one / sqrt(dot(d.real, d.real)));
+    const V w = d.real.w;
+    const Vec3<V> v = d.real.vec();
+    const V s = sqrt(dot(v, v));
+    const V omega_over_s = omega_over_sine(w, s);
+    // The rotation p^t, and h = tΩ.
+    const V scale = omega_over_s * tt;
+    const Vec3<V> vt = v * scale;
+    const V h2 = dot(vt, vt);
+    const V cos_h = polynomial(h2, kCos), sinc_h = polynomial(h2, kSinc);
+    const V sin_h = (s * scale) * sinc_h;
+    const Quaternion<V> rotation(cos_h, vt * sinc_h);
+    // The translation τ(t).
+    const Vec3<V> tau = d.translation();
+    const Vec3<V> u = v / select_less(zero, s, s, one);
+    const V along = dot(tau, u);
+    const Vec3<V> across = tau - u * along;
+    const V cos_phi = cos_h * w + sin_h * s, sin_phi = sin_h * w - cos_h * s;
+    const V kappa = (tt * sinc_h) * omega_over_s;
+    const Vec3<V> tau_t = u * (along * tt) + (across * cos_phi + cross(u, across) * sin_phi) * kappa;
+    const DualQuaternion<V> motion = DualQuaternion<V>::from_rotation_translation(rotation, tau_t);
+    // Renormalized as dq::sclerp does: the real part divided by its norm, the dual part's component
+    // along it removed (the regular path of DualQuaternion::normalized; the product of unit inputs
+    // needs no other, and this is not bit-identical to dq::sclerp anyway).
+    const DualQuaternion<V> m = product(qa, motion);
+    const V n = sqrt(m.real.squared_norm());
+    const Quaternion<V> r = m.real / n, dual = m.dual / n;
+    store8<N>(out, i, DualQuaternion<V>(r, dual - r * dot(r, dual)));
+  }
+#endif
+};
+
+// ---- dispatch --------------------------------------------------------------------------------------
+
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+/// Kernel K over n elements with N lanes at a time; the tail runs its scalar formula.
+template <int N, class K, class... A>
+[[gnu::always_inline]] inline void run_lanes(std::size_t n, A... args) {
+  std::size_t i = 0;
+  for (; i + N <= n; i += N) K::template lanes<N>(i, args...);
+  K::scalar(i, n, args...);
+}
+// One function per instruction set, for any kernel.
+#define DQKIT_TARGET(name, width, attribute)                                \
+  template <class K, class... A>                                            \
+  [[gnu::target(attribute), gnu::flatten]] void run_##name(std::size_t n, A... args) { \
+    run_lanes<width, K>(n, args...);                                        \
+  }
+DQKIT_TARGET(sse2, 4, "sse2")
+DQKIT_TARGET(avx2, 8, "avx2")
+DQKIT_TARGET(avx512, 16, "avx512f")
+#undef DQKIT_TARGET
 
 Target detect() noexcept {
   __builtin_cpu_init();
@@ -135,6 +391,26 @@ Target detect() noexcept { return Target::scalar; }
 std::atomic<Target>& active() {
   static std::atomic<Target> t{detect()};
   return t;
+}
+
+/// Kernel K over n elements on `target`'s function.
+template <class K, class... A>
+void dispatch(Target target, std::size_t n, A... args) {
+  switch (target) {
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+    case Target::avx512: return run_avx512<K>(n, args...);
+    case Target::avx2: return run_avx2<K>(n, args...);
+    case Target::sse2: return run_sse2<K>(n, args...);
+#endif
+    default: return K::scalar(0, n, args...);
+  }
+}
+
+/// The target for the kernels whose polynomials cover t ∈ [0, 1] (a NaN t runs the scalar
+/// function too).
+Target target_for(float t) noexcept {
+  const bool in_range = t >= 0.0f && t <= 1.0f;
+  return in_range ? active().load(std::memory_order_relaxed) : Target::scalar;
 }
 
 }  // namespace
@@ -159,48 +435,20 @@ std::string_view to_string(Target t) noexcept {
   return "?";
 }
 
-void compose(ConstRows a, ConstRows b, Rows out, std::size_t n) {
-  switch (current_target()) {
-#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-    case Target::avx512: return compose_avx512(a, b, out, n);
-    case Target::avx2: return compose_avx2(a, b, out, n);
-    case Target::sse2: return compose_sse2(a, b, out, n);
-#endif
-    default: return detail::dual_quaternion_product_rows<float>(a, b, out, 0, n);
-  }
-}
-
+void compose(ConstRows a, ConstRows b, Rows out, std::size_t n) { dispatch<Compose>(current_target(), n, a, b, out); }
+void inverse(ConstRows q, Rows out, std::size_t n) { dispatch<Inverse>(current_target(), n, q, out); }
+void normalize(ConstRows q, Rows out, std::size_t n) { dispatch<Normalize>(current_target(), n, q, out); }
 void transform_points(ConstRows q, std::array<const float*, 3> p, std::array<float*, 3> out, std::size_t n) {
-  switch (current_target()) {
-#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-    case Target::avx512: return transform_points_avx512(q, p, out, n);
-    case Target::avx2: return transform_points_avx2(q, p, out, n);
-    case Target::sse2: return transform_points_sse2(q, p, out, n);
-#endif
-    default:
-      for (std::size_t i = 0; i < n; ++i) {
-        const DualQuaternion<float> d{q.rw[i], q.rx[i], q.ry[i], q.rz[i], q.dw[i], q.dx[i], q.dy[i], q.dz[i]};
-        const Vec3<float> r = d.transform_point({p[0][i], p[1][i], p[2][i]});
-        out[0][i] = r.x, out[1][i] = r.y, out[2][i] = r.z;
-      }
-  }
+  dispatch<TransformPoints>(current_target(), n, q, p, out);
 }
-
+void transform_directions(ConstRows q, std::array<const float*, 3> v, std::array<float*, 3> out, std::size_t n) {
+  dispatch<TransformDirections>(current_target(), n, q, v, out);
+}
 void slerp(QuaternionRows<const float> a, QuaternionRows<const float> b, float t, QuaternionRows<float> out, std::size_t n) {
-  const bool in_range = t >= 0.0f && t <= 1.0f;  // the polynomials' range (NaN t: dq::slerp too)
-  switch (in_range ? current_target() : Target::scalar) {
-#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-    case Target::avx512: return slerp_avx512(a, b, t, out, n);
-    case Target::avx2: return slerp_avx2(a, b, t, out, n);
-    case Target::sse2: return slerp_sse2(a, b, t, out, n);
-#endif
-    default:
-      for (std::size_t i = 0; i < n; ++i) {
-        const Quaternion<float> q = dq::slerp(Quaternion<float>(a.w[i], a.x[i], a.y[i], a.z[i]), Quaternion<float>(b.w[i], b.x[i], b.y[i], b.z[i]), t);
-        out.w[i] = q.w, out.x[i] = q.x, out.y[i] = q.y, out.z[i] = q.z;
-      }
-  }
+  dispatch<Slerp>(target_for(t), n, a, b, t, out);
 }
+void dlb(ConstRows a, ConstRows b, float t, Rows out, std::size_t n) { dispatch<Dlb>(current_target(), n, a, b, t, out); }
+void sclerp(ConstRows a, ConstRows b, float t, Rows out, std::size_t n) { dispatch<Sclerp>(target_for(t), n, a, b, t, out); }
 
 void run(const ForwardKinematicsJob<float>& job) {
   DQ_PRECONDITION(job.validate().ok(), "simd::run on a job that does not validate");
