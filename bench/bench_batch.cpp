@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <glm/gtx/dual_quaternion.hpp>
+#include <glm/gtx/norm.hpp>  // length2, which mat3x4_cast uses
 #include <random>
 #include <string>
 #include <vector>
@@ -335,7 +336,7 @@ void ComposeEigenIsometry3f(benchmark::State& state) {
 /// (for normalize), and outputs.
 struct KernelArrays {
   static constexpr std::size_t n = 4096;
-  std::vector<float> a[8], b[8], scaled[8], v[3], out[8];
+  std::vector<float> a[8], b[8], scaled[8], v[3], out[8], matrix[12];
   std::vector<DualQuaternion<float>> dq_a, dq_b, dq_scaled;
   KernelArrays() {
     std::mt19937 rng(5);
@@ -354,6 +355,12 @@ struct KernelArrays {
     soa(a, dq_a), soa(b, dq_b), soa(scaled, dq_scaled), soa(out, dq_a);
     for (auto& x : v)
       for (std::size_t i = 0; i < n; ++i) x.push_back(g(rng));
+    for (auto& x : matrix) x.resize(n);
+  }
+  std::array<float*, 12> matrices() {
+    std::array<float*, 12> m{};
+    for (std::size_t k = 0; k < 12; ++k) m[k] = matrix[k].data();
+    return m;
   }
   static simd::ConstRows rows(const std::vector<float> (&c)[8]) {
     return {c[0].data(), c[1].data(), c[2].data(), c[3].data(), c[4].data(), c[5].data(), c[6].data(), c[7].data()};
@@ -459,6 +466,24 @@ void TransformDirectionsEigenIsometry3f(benchmark::State& state) {
       same_direction<Eigen::Vector3f>(k));
 }
 
+/// Dual quaternions to 3x4 matrices: the kernel (twelve arrays) against GLM's mat3x4_cast.
+void ToMatricesDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] { simd::to_matrices(KernelArrays::rows(k.a), k.matrices(), KernelArrays::n); });
+}
+void ToMatricesGlmDualquat(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  const std::vector<glm::dualquat> q = to_glm(k.dq_a);
+  run_peer<glm::mat3x4>(
+      state, [&](std::size_t i) { return glm::mat3x4_cast(q[i]); }, [&] { simd::to_matrices(KernelArrays::rows(k.a), k.matrices(), KernelArrays::n); },
+      [&](std::size_t i, const glm::mat3x4& g) {  // GLM's mat3x4 holds the rows of [R | t] as its columns
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 4; ++c)
+            if (std::abs(g[r][c] - k.matrix[static_cast<std::size_t>(c * 3 + r)][i]) > 1e-5f * (1 + std::abs(g[r][c]))) return false;
+        return true;
+      });
+}
+
 void NormalizeDispatched(benchmark::State& state) {
   KernelArrays& k = kernel_arrays();
   run_dispatched(state, [&] { simd::normalize(KernelArrays::rows(k.scaled), k.out_rows(), KernelArrays::n); });
@@ -535,6 +560,8 @@ BENCHMARK(InverseGlmDualquat);
 BENCHMARK(TransformDirectionsDispatched);
 BENCHMARK(TransformDirectionsGlmMat4);
 BENCHMARK(TransformDirectionsEigenIsometry3f);
+BENCHMARK(ToMatricesDispatched);
+BENCHMARK(ToMatricesGlmDualquat);
 BENCHMARK(NormalizeDispatched);
 BENCHMARK(NormalizeGlmDualquat);
 BENCHMARK(DlbDispatched);

@@ -211,6 +211,35 @@ TEST(Simd, TransformDirectionsIsTheScalarTransformBitForBit) {
   });
 }
 
+TEST(Simd, ToMatricesIsTheScalarConversionBitForBitAndARigidMotion) {
+  const std::size_t n = 301;
+  const Batch q(n, 15);
+  std::vector<float> m[12];
+  for_each_target([&](Target) {
+    for (const std::size_t count : {std::size_t{0}, std::size_t{17}, n}) {
+      for (auto& x : m) x.assign(n, -1.0f);
+      std::array<float*, 12> out{};
+      for (std::size_t k = 0; k < 12; ++k) out[k] = m[k].data();
+      simd::to_matrices(q.rows(), out, count);
+      for (std::size_t i = 0; i < n; ++i) {
+        const Mat34<float> want = to_mat34(q.get(i));
+        for (std::size_t k = 0; k < 12; ++k)
+          ASSERT_TRUE(same_bits(m[k][i], i < count ? want.m[k] : -1.0f)) << "n " << count << " element " << i << " entry " << k;
+      }
+    }
+  });
+  // Independently of to_mat34: the matrix maps points as the dual quaternion does (column c, row r
+  // at m[c · 3 + r]).
+  test::Random rng(16);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3<float> p = rng.vec3<float>(3), want = q.get(i).transform_point_sandwich(p);
+    for (std::size_t r = 0; r < 3; ++r) {
+      const float got = m[r][i] * p.x + m[3 + r][i] * p.y + m[6 + r][i] * p.z + m[9 + r][i];
+      ASSERT_NEAR(got, (&want.x)[r], 1e-4f * (1 + std::abs((&want.x)[r]))) << i << " row " << r;
+    }
+  }
+}
+
 /// Inputs for each branch of DualQuaternion::normalized other than the common one.
 std::vector<DualQuaternion<float>> inputs_for_every_branch_of_normalized() {
   const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();

@@ -12,6 +12,7 @@
 #include <limits>
 #include <numbers>
 
+#include "dq/convert/matrix.hpp"
 #include "dq/core/series.hpp"
 #include "dq/interp/rigid.hpp"
 #include "dq/interp/rotation.hpp"
@@ -32,6 +33,7 @@ Quaternion<float> get(QuaternionRows<const float> r, std::size_t i) { return {r.
 void put(QuaternionRows<float> r, std::size_t i, const Quaternion<float>& q) { r.w[i] = q.w, r.x[i] = q.x, r.y[i] = q.y, r.z[i] = q.z; }
 using Xyz = std::array<const float*, 3>;
 using OutXyz = std::array<float*, 3>;
+using Matrices = std::array<float*, 12>;
 Vec3<float> get(Xyz p, std::size_t i) { return {p[0][i], p[1][i], p[2][i]}; }
 void put(OutXyz p, std::size_t i, const Vec3<float>& v) { p[0][i] = v.x, p[1][i] = v.y, p[2][i] = v.z; }
 
@@ -228,6 +230,23 @@ struct TransformDirections {
   template <int N>
   [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows q, Xyz v, OutXyz out) {
     store3<N>(out, i, load8<N>(q, i).transform_direction(load3<N>(v, i)));  // reads the real part only
+  }
+#endif
+};
+
+/// to_mat34, stored column-major as Mat34::m: out[c · 3 + r] is row r of column c.
+struct ToMatrices {
+  static void scalar(std::size_t first, std::size_t last, ConstRows q, Matrices out) {
+    for (std::size_t i = first; i < last; ++i) {
+      const Mat34<float> m = to_mat34(get(q, i));
+      for (std::size_t k = 0; k < 12; ++k) out[k][i] = m.m[k];
+    }
+  }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows q, Matrices out) {
+    const Mat34<Lanes<N>> m = to_mat34(load8<N>(q, i));
+    for (std::size_t k = 0; k < 12; ++k) store<N>(out[k] + i, m.m[k]);
   }
 #endif
 };
@@ -447,6 +466,7 @@ void transform_directions(ConstRows q, std::array<const float*, 3> v, std::array
 void slerp(QuaternionRows<const float> a, QuaternionRows<const float> b, float t, QuaternionRows<float> out, std::size_t n) {
   dispatch<Slerp>(target_for(t), n, a, b, t, out);
 }
+void to_matrices(ConstRows q, std::array<float*, 12> out, std::size_t n) { dispatch<ToMatrices>(current_target(), n, q, out); }
 void dlb(ConstRows a, ConstRows b, float t, Rows out, std::size_t n) { dispatch<Dlb>(current_target(), n, a, b, t, out); }
 void sclerp(ConstRows a, ConstRows b, float t, Rows out, std::size_t n) { dispatch<Sclerp>(target_for(t), n, a, b, t, out); }
 

@@ -54,6 +54,11 @@ void transform_points(ConstRows q, std::array<const float*, 3> p, std::array<flo
 /// unit q_r (for others, the scalar formula's value, which is not a rotation). `out` may be `v`.
 void transform_directions(ConstRows q, std::array<const float*, 3> v, std::array<float*, 3> out, std::size_t n);
 
+/// The 3x4 matrices [R | t] of q[i] for i < n, in twelve arrays: out[c · 3 + r][i] is row r of
+/// column c (the column-major order of Mat34::m, glTF and OpenGL). Bit for bit dq::to_mat34.
+/// Precondition: unit q (for others, the scalar formula's value, which is not a rigid motion).
+void to_matrices(ConstRows q, std::array<float*, 12> out, std::size_t n);
+
 /// out[i] = q[i].normalized() for i < n (DualQuaternion::normalized, bit for bit for every input):
 /// |q_r| = 1 and q_r · q_d = 0 enforced. On the vector lanes: the real part divided by its norm and
 /// the dual part's component along it removed, or, where the dual part lay almost along the real
