@@ -102,13 +102,17 @@ def main(build):
     add("| --- | ---: | ---: | ---: | ---: |")
     eigen = b["FkEigenPerPose/10000/real_time"]["joints_per_s"]
     for name, label in (
-        ("FkDispatched/10000/1/real_time", "10,000 skeletons, dqkit dispatched, 1 thread"),
-        ("FkDispatched/10000/2/real_time", "10,000 skeletons, dqkit dispatched, 2 threads"),
-        ("FkScalarJob/10000/real_time", "10,000 skeletons, dqkit job, auto-vectorized"),
+        ("FkBlocksDispatched/10000/1/real_time", "10,000 skeletons, dqkit pose blocks, dispatched, 1 thread"),
+        ("FkBlocksDispatched/10000/2/real_time", "10,000 skeletons, dqkit pose blocks, dispatched, 2 threads"),
+        ("FkDispatched/10000/1/real_time", "10,000 skeletons, dqkit joint-major, dispatched, 1 thread"),
+        ("FkDispatched/10000/2/real_time", "10,000 skeletons, dqkit joint-major, dispatched, 2 threads"),
+        ("FkScalarJob/10000/real_time", "10,000 skeletons, dqkit joint-major job, auto-vectorized"),
         ("FkEigenPerPose/10000/real_time", "10,000 skeletons, Eigen `Isometry3f` pose by pose"),
-        ("FkDispatched/100000/1/real_time", "100,000 skeletons, dqkit dispatched, 1 thread"),
-        ("FkDispatched/100000/2/real_time", "100,000 skeletons, dqkit dispatched, 2 threads"),
-        ("FkScalarJob/100000/real_time", "100,000 skeletons, dqkit job, auto-vectorized"),
+        ("FkBlocksDispatched/100000/1/real_time", "100,000 skeletons, dqkit pose blocks, dispatched, 1 thread"),
+        ("FkBlocksDispatched/100000/2/real_time", "100,000 skeletons, dqkit pose blocks, dispatched, 2 threads"),
+        ("FkDispatched/100000/1/real_time", "100,000 skeletons, dqkit joint-major, dispatched, 1 thread"),
+        ("FkDispatched/100000/2/real_time", "100,000 skeletons, dqkit joint-major, dispatched, 2 threads"),
+        ("FkScalarJob/100000/real_time", "100,000 skeletons, dqkit joint-major job, auto-vectorized"),
     ):
         r = b[name]
         add(f"| {label} | {fmt(r['joints_per_s'])} | {fmt(r['bytes_per_second'], 'B/s')} | {r['joints_per_s'] / eigen:.2f} | "
@@ -134,6 +138,23 @@ def main(build):
     add(f"| slerp over arrays, dqkit dispatched (no failure case) | {fmt(sd)} | | {sd / se:.2f} × Eigen per element |")
     add(f"| slerp, Eigen `Quaternionf::slerp` per element | {fmt(se)} | | 1.00 |")
     add("")
+    add("### More kernels over arrays (4096 elements, hot in cache; t = 0.3)")
+    add("| kernel | dqkit dispatched, per second | peer | peer, per second | dqkit ÷ peer |")
+    add("| --- | ---: | --- | ---: | ---: |")
+    for kernel, peers in (
+        ("Inverse", (("InverseGlmDualquat", "GLM `inverse(dualquat)`"),)),
+        ("TransformDirections", (("TransformDirectionsGlmMat4", "GLM `mat4 * vec4(v, 0)`"),
+                                 ("TransformDirectionsEigenIsometry3f", "Eigen `Isometry3f::linear() * v`"))),
+        ("ToMatrices", (("ToMatricesGlmDualquat", "GLM `mat3x4_cast(dualquat)`"),)),
+        ("Normalize", (("NormalizeGlmDualquat", "GLM `normalize(dualquat)` (leaves q_r · q_d ≠ 0)"),)),
+        ("Dlb", (("DlbGlmDualquat", "GLM `normalize(lerp(a, b, t))`"),)),
+        ("Sclerp", (("SclerpScalar", "dqkit's scalar `dq::sclerp` per element (no peer has sclerp)"),)),
+    ):
+        mine = b[kernel + "Dispatched"]["per_s"]
+        for peer, label in peers:
+            theirs = b[peer]["per_s"]
+            add(f"| `{kernel[0].lower() + ''.join('_' + ch.lower() if ch.isupper() else ch for ch in kernel[1:])}` | {fmt(mine)} | {label} | {fmt(theirs)} | {mine / theirs:.2f} |")
+    add("")
     one_at_a_time(add, c, "portable build")
     one_at_a_time(add, c_avx2, "built with `-mavx2 -mfma`")
 
@@ -147,21 +168,31 @@ def main(build):
         text = text.rstrip() + "\n\n## The batch kernels and the suite against the peers\n" + new + "\n"
     open(page, "w").write(text)
 
-    fig, ax = plt.subplots(1, 2, figsize=(13, 4))
-    names = ["FK 10k ×64\n1 thread", "FK 10k ×64\n2 threads", "FK 100k ×64\n1 thread", "FK 100k ×64\n2 threads"]
-    keys = ["FkDispatched/10000/1/real_time", "FkDispatched/10000/2/real_time", "FkDispatched/100000/1/real_time",
-            "FkDispatched/100000/2/real_time"]
-    ax[0].bar(names, [b[k]["bytes_per_second"] / copy1 for k in keys])
+    fig, ax = plt.subplots(1, 2, figsize=(13, 5))
+    names = ["10k ×64\n1 thread", "10k ×64\n2 threads", "100k ×64\n1 thread", "100k ×64\n2 threads"]
+    cases = ["10000/1/real_time", "10000/2/real_time", "100000/1/real_time", "100000/2/real_time"]
+    at = range(len(names))
+    ax[0].bar([x - 0.2 for x in at], [b["FkBlocksDispatched/" + k]["bytes_per_second"] / copy1 for k in cases], 0.4, label="pose blocks")
+    ax[0].bar([x + 0.2 for x in at], [b["FkDispatched/" + k]["bytes_per_second"] / copy1 for k in cases], 0.4, label="joint-major")
+    ax[0].set_xticks(list(at), names)
+    ax[0].legend()
     ax[0].axhline(1.0, color="grey", linestyle=":")
     ax[0].set_ylabel("fraction of the 1-thread copy bandwidth")
     ax[0].set_title("Batch forward kinematics against the memory roofline")
-    ratios = {"FK 10k vs Eigen": b["FkDispatched/10000/1/real_time"]["joints_per_s"] / eigen,
+    ratios = {"FK 10k (pose blocks) vs Eigen": b["FkBlocksDispatched/10000/1/real_time"]["joints_per_s"] / eigen,
               "one skeleton vs Eigen": one_dq / one_eigen,
               "points vs Eigen (hot)": tp[0] / te[0], "points vs Eigen (DRAM)": tp[1] / te[1],
               "compose vs GLM dq (hot)": cd[0] / cg[0], "slerp arrays vs Eigen": sd / se,
-              "slerp one at a time vs Eigen": ns(c, "SlerpEigen") / ns(c, "SlerpDqkit")}
+              "slerp one at a time vs Eigen": ns(c, "SlerpEigen") / ns(c, "SlerpDqkit"),
+              "inverse vs GLM dq": b["InverseDispatched"]["per_s"] / b["InverseGlmDualquat"]["per_s"],
+              "directions vs Eigen": b["TransformDirectionsDispatched"]["per_s"] / b["TransformDirectionsEigenIsometry3f"]["per_s"],
+              "to 3x4 matrices vs GLM dq": b["ToMatricesDispatched"]["per_s"] / b["ToMatricesGlmDualquat"]["per_s"],
+              "normalize vs GLM dq": b["NormalizeDispatched"]["per_s"] / b["NormalizeGlmDualquat"]["per_s"],
+              "dlb vs GLM dq": b["DlbDispatched"]["per_s"] / b["DlbGlmDualquat"]["per_s"],
+              "sclerp arrays vs scalar sclerp": b["SclerpDispatched"]["per_s"] / b["SclerpScalar"]["per_s"]}
     ax[1].barh(list(ratios), list(ratios.values()))
     ax[1].axvline(1.0, color="grey", linestyle=":")
+    ax[1].set_xscale("log")
     ax[1].set_xlabel("dqkit speed ÷ peer speed (same run)")
     ax[1].set_title("Ratios to the peers")
     fig.tight_layout()
