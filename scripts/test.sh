@@ -70,7 +70,7 @@ run_suite asan-ubsan "-LE package" -DDQKIT_SANITIZE=ON "-DCMAKE_CXX_FLAGS_RELEAS
 if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo; then
   stage "Release build with -mavx2 -mfma: the tests of the algebra, its derivatives, interpolation and the"
   echo "   SIMD kernels (the code whose results could depend on the instruction set; the rest ran above)"
-  numeric_tests=(test_dual test_algebra test_generic test_interp test_simd test_skin)
+  numeric_tests=(test_dual test_algebra test_generic test_interp test_simd test_pose_blocks test_skin)
   cmake -S . -B build/avx2 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="-mavx2 -mfma" -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF \
     -DDQKIT_BUILD_EXAMPLES=OFF -DDQKIT_BUILD_TOOLS=OFF -DDQKIT_WITH_ASSIMP=OFF -DDQKIT_BUILD_DEMOS=OFF >/dev/null
   cmake --build build/avx2 -j "$jobs" --target "${numeric_tests[@]}"
@@ -82,7 +82,7 @@ fi
 stage "ThreadSanitizer build (-O1): the tests that use threads"
 cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG" -DDQKIT_TSAN=ON -DDQKIT_BUILD_BENCHMARKS=OFF \
   -DDQKIT_BUILD_EXAMPLES=OFF >/dev/null
-cmake --build build/tsan -j "$jobs" --target test_threads test_skeleton test_skin  # test_skin: Skinning.Threads*
+cmake --build build/tsan -j "$jobs" --target test_threads test_skeleton test_skin test_pose_blocks  # Skinning.Threads*, PoseBlocks.Threads*
 run_ctest --test-dir build/tsan -R "Threads|ForwardKinematics"
 
 stage "Fuzzing: every target for ${DQKIT_FUZZ_SECONDS:-8} s (libFuzzer, clang)"

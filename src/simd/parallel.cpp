@@ -52,28 +52,28 @@ void run_part(const Job& part) {
     part.run();
 }
 
-}  // namespace
-
-template <class T>
-Status run_parallel(const ForwardKinematicsJob<T>& job, unsigned threads, std::size_t grain) {
+/// Validates the job, then runs it in parts: copies of the job whose range (the members `first`
+/// and `count`) covers one part of the job's range each.
+template <class Job>
+Status run_in_parts(const Job& job, std::size_t Job::*first, std::size_t Job::*count, unsigned threads, std::size_t grain) {
   if (Status s = job.validate(); !s) return s;
-  split(job.first_pose, job.pose_count, threads, grain, [&](std::size_t first, std::size_t count) {
-    ForwardKinematicsJob<T> part = job;
-    part.first_pose = first, part.pose_count = count;
+  split(job.*first, job.*count, threads, grain, [&](std::size_t part_first, std::size_t part_count) {
+    Job part = job;
+    part.*first = part_first, part.*count = part_count;
     run_part(part);
   });
   return {};
 }
 
+}  // namespace
+
+template <class T>
+Status run_parallel(const ForwardKinematicsJob<T>& job, unsigned threads, std::size_t grain) {
+  return run_in_parts(job, &ForwardKinematicsJob<T>::first_pose, &ForwardKinematicsJob<T>::pose_count, threads, grain);
+}
 template <class T>
 Status run_parallel(const BlockedForwardKinematicsJob<T>& job, unsigned threads, std::size_t grain) {
-  if (Status s = job.validate(); !s) return s;
-  split(job.first_block, job.block_count, threads, grain, [&](std::size_t first, std::size_t count) {
-    BlockedForwardKinematicsJob<T> part = job;
-    part.first_block = first, part.block_count = count;
-    run_part(part);
-  });
-  return {};
+  return run_in_parts(job, &BlockedForwardKinematicsJob<T>::first_block, &BlockedForwardKinematicsJob<T>::block_count, threads, grain);
 }
 
 template Status run_parallel(const ForwardKinematicsJob<float>&, unsigned, std::size_t);
