@@ -108,9 +108,10 @@ struct DualQuaternion {
 #if DQKIT_VECTOR_EXTENSIONS
     if constexpr (std::is_same_v<T, float>) {
       if (!std::is_constant_evaluated()) {
+        const auto ar = detail::to_lanes(a.real), ad = detail::to_lanes(a.dual);
         const auto br = detail::to_lanes(b.real), bd = detail::to_lanes(b.dual);
-        return {detail::from_lanes(detail::hamilton_lanes(a.real, br)),
-                detail::from_lanes(detail::hamilton_lanes(a.real, bd) + detail::hamilton_lanes(a.dual, br))};
+        return {detail::from_lanes(detail::hamilton_lanes(ar, br)),
+                detail::from_lanes(detail::hamilton_lanes(ar, bd) + detail::hamilton_lanes(ad, br))};
       }
     }
 #endif

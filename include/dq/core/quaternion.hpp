@@ -306,27 +306,38 @@ constexpr Quaternion<T> hamilton(const Quaternion<T>& a, const Quaternion<T>& b)
 }
 
 #if DQKIT_VECTOR_EXTENSIONS
-// The four-lane float product. Its left operand stays four scalars, broadcast into the lanes, and
-// results come back as four scalars: GCC then keeps a loop-carried quaternion (x = x * a) in
-// registers; memcpy into and out of vectors sent it through the stack and integer registers,
-// doubling the latency of a chain of products.
+// The four-lane float product. Quaternions move into and out of vectors whole (memcpy: one
+// 16-byte load or register move), and the left operand's components are broadcast from its
+// vector by shuffles: GCC then keeps a loop-carried quaternion (x = x · a) in one vector register.
+// (Built from or returned as four scalars, a chained dual quaternion became eight scalars, more
+// than SSE2's sixteen registers hold with the products: half of them went through integer
+// registers on every link.)
 using float4 = float __attribute__((vector_size(16)));
-[[gnu::always_inline]] inline float4 to_lanes(const Quaternion<float>& q) noexcept { return float4{q.w, q.x, q.y, q.z}; }
-[[gnu::always_inline]] inline Quaternion<float> from_lanes(const float4& v) noexcept { return {v[0], v[1], v[2], v[3]}; }
+[[gnu::always_inline]] inline float4 to_lanes(const Quaternion<float>& q) noexcept {
+  float4 v;
+  std::memcpy(&v, &q, sizeof v);
+  return v;
+}
+[[gnu::always_inline]] inline Quaternion<float> from_lanes(const float4& v) noexcept {
+  Quaternion<float> q;
+  std::memcpy(static_cast<void*>(&q), &v, sizeof v);  // trivially copyable (std::bit_cast made GCC keep chains in memory)
+  return q;
+}
 /// detail::hamilton with the four components in the lanes of one vector: r = (a_w b
 /// + a_x (−b_x, b_w, −b_z, b_y)) + (a_y (−b_y, b_z, b_w, −b_x) + a_z (−b_z, −b_y, b_x, b_w)), summed
 /// in the scalar formula's pairs (x − y and x + (−y) round alike, as do (−x) + (−y) and −(x + y),
-/// so each lane is bit-identical). Written with the compiler's generic vector extensions, not
-/// with intrinsics of one instruction set: the same source serves every target a translation
-/// unit is compiled for (docs/design.md).
-[[gnu::always_inline]] inline float4 hamilton_lanes(const Quaternion<float>& a, const float4& vb) noexcept {
+/// so each lane is the scalar formula's value, up to the sign of an exact zero). Written with the
+/// compiler's generic vector extensions, not with intrinsics of one instruction set: the same
+/// source serves every target a translation unit is compiled for (docs/design.md).
+[[gnu::always_inline]] inline float4 hamilton_lanes(const float4& va, const float4& vb) noexcept {
   const float4 b1 = __builtin_shufflevector(vb, vb, 1, 0, 3, 2) * float4{-1, 1, -1, 1};
   const float4 b2 = __builtin_shufflevector(vb, vb, 2, 3, 0, 1) * float4{-1, 1, 1, -1};
   const float4 b3 = __builtin_shufflevector(vb, vb, 3, 2, 1, 0) * float4{-1, -1, 1, 1};
-  return (a.w * vb + a.x * b1) + (a.y * b2 + a.z * b3);
+  return (__builtin_shufflevector(va, va, 0, 0, 0, 0) * vb + __builtin_shufflevector(va, va, 1, 1, 1, 1) * b1) +
+         (__builtin_shufflevector(va, va, 2, 2, 2, 2) * b2 + __builtin_shufflevector(va, va, 3, 3, 3, 3) * b3);
 }
 inline Quaternion<float> hamilton_lanes(const Quaternion<float>& a, const Quaternion<float>& b) noexcept {
-  return from_lanes(hamilton_lanes(a, to_lanes(b)));
+  return from_lanes(hamilton_lanes(to_lanes(a), to_lanes(b)));
 }
 #endif
 }  // namespace detail
