@@ -1,6 +1,8 @@
 #include "dq/io/file.hpp"
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -51,10 +53,32 @@ extern "C" void remove_temporaries_and_die(int sig) {
 
 std::string reason(int error) { return std::strerror(error); }
 
+/// The signals after which remove_temporary_files_on_signals removes the temporary files.
+constexpr std::array kCleanedSignals{SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGXFSZ};
+
+/// Blocks those signals on this thread for its lifetime, so that none lands between a temporary
+/// file's creation and its registration for the handler (it would stay behind); a signal sent in
+/// between is delivered when they are unblocked, and the handler then finds the file.
+class CleanedSignalsBlocked {
+ public:
+  CleanedSignalsBlocked() {
+    sigset_t set;
+    sigemptyset(&set);
+    for (int sig : kCleanedSignals) sigaddset(&set, sig);
+    ::pthread_sigmask(SIG_BLOCK, &set, &old_);
+  }
+  ~CleanedSignalsBlocked() { ::pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
+  CleanedSignalsBlocked(const CleanedSignalsBlocked&) = delete;
+  CleanedSignalsBlocked& operator=(const CleanedSignalsBlocked&) = delete;
+
+ private:
+  sigset_t old_;
+};
+
 }  // namespace
 
 void remove_temporary_files_on_signals() {
-  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGXFSZ}) {
+  for (int sig : kCleanedSignals) {
     struct sigaction old {};
     if (::sigaction(sig, nullptr, &old) != 0 || old.sa_handler != SIG_DFL) continue;  // e.g. nohup's SIGHUP
     struct sigaction action {};
@@ -80,6 +104,7 @@ Expected<OutputFile> OutputFile::create(const std::filesystem::path& path, Overw
   out.path_ = path;
   out.overwrite_ = overwrite;
   std::random_device rd;
+  const CleanedSignalsBlocked blocked;
   for (int attempt = 0; attempt < 16 && out.fd_ < 0; ++attempt) {
     out.temporary_ = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd()));
     out.fd_ = ::open(out.temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
