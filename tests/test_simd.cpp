@@ -330,6 +330,17 @@ TEST(Simd, NormalizeIsTheScalarNormalizationBitForBitInEveryLane) {
     }
   }
   EXPECT_GT(zero_real, 20u);
+  // Drifted inputs alone: no block leaves the lanes (on 16 lanes above, most blocks held a special
+  // input and ran the scalar function), so the per-lane choice of the rebuilt dual part is tested.
+  const Batch regular(drifted(1003, 19));
+  std::size_t regular_rebuilt = 0;
+  for (std::size_t i = 0; i < regular.size(); ++i) regular_rebuilt += rebuilds_dual_part(regular.get(i));
+  EXPECT_GT(regular_rebuilt, 150u);
+  for_each_target([&](Target) {
+    Batch normalized(1003, 16);
+    simd::normalize(regular.rows(), normalized.rows(), regular.size());
+    for (std::size_t i = 0; i < regular.size(); ++i) ASSERT_TRUE(same_bits(normalized.get(i), regular.get(i).normalized())) << i;
+  });
 }
 
 TEST(Simd, DlbIsTheScalarBlendBitForBit) {
@@ -369,6 +380,17 @@ TEST(Simd, DlbIsTheScalarBlendBitForBit) {
         ASSERT_TRUE(same_bits(into_a.get(i), dlb(a[i], b[i], t))) << i;
         ASSERT_TRUE(same_bits(into_b.get(i), dlb(a[i], b[i], t))) << i;
       }
+    });
+  }
+  // Random pairs alone: every block stays on the lanes.
+  std::vector<DualQuaternion<float>> ra, rb;
+  for (int i = 0; i < 1003; ++i) ra.push_back(rng.rigid<float>(5)), rb.push_back(i % 2 ? -rng.rigid<float>(5) : rng.rigid<float>(5));
+  const Batch pa(ra), pb(rb);
+  for (const float t : {0.3f, 0.5f}) {
+    for_each_target([&](Target) {
+      Batch out(1003, 18);
+      simd::dlb(pa.rows(), pb.rows(), t, out.rows(), ra.size());
+      for (std::size_t i = 0; i < ra.size(); ++i) ASSERT_TRUE(same_bits(out.get(i), dlb(ra[i], rb[i], t))) << "t " << t << " element " << i;
     });
   }
 }

@@ -56,9 +56,8 @@ std::string reason(int error) { return std::strerror(error); }
 /// The signals after which remove_temporary_files_on_signals removes the temporary files.
 constexpr std::array kCleanedSignals{SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGXFSZ};
 
-/// Blocks those signals on this thread for its lifetime, so that none lands between a temporary
-/// file's creation and its registration for the handler (it would stay behind); a signal sent in
-/// between is delivered when they are unblocked, and the handler then finds the file.
+/// Blocks those signals on this thread for its lifetime: while a temporary file is created, a
+/// signal handled on this thread is delivered after the table is up to date (see create).
 class CleanedSignalsBlocked {
  public:
   CleanedSignalsBlocked() {
@@ -105,13 +104,20 @@ Expected<OutputFile> OutputFile::create(const std::filesystem::path& path, Overw
   out.overwrite_ = overwrite;
   std::random_device rd;
   const CleanedSignalsBlocked blocked;
+  int error = 0;
   for (int attempt = 0; attempt < 16 && out.fd_ < 0; ++attempt) {
     out.temporary_ = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd()));
+    // Entered in the handler's table before it is created: a signal handled on another thread
+    // (which this thread's mask does not cover) cannot land between creation and registration.
+    // A name that turns out to be taken (O_EXCL) leaves the table at once.
+    out.slot_ = claim_slot(out.temporary_);
     out.fd_ = ::open(out.temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (out.fd_ < 0 && errno != EEXIST) break;
+    error = errno;
+    if (out.fd_ >= 0) break;
+    release_slot(std::exchange(out.slot_, -1));
+    if (error != EEXIST) break;
   }
-  if (out.fd_ < 0) return Error{name + ": cannot create a file in " + dir.string() + ": " + reason(errno)};
-  out.slot_ = claim_slot(out.temporary_);
+  if (out.fd_ < 0) return Error{name + ": cannot create a file in " + dir.string() + ": " + reason(error)};
   return out;
 }
 

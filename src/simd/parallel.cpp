@@ -15,8 +15,9 @@ namespace dq::simd {
 
 namespace {
 
-/// Calls part(begin, count) on ranges that split [first, first + count), each at least `grain`
-/// long, on oneTBB's workers (at most `threads` of them; 0: all).
+/// Calls part(begin, count) on ranges that split [first, first + count), on oneTBB's workers (at
+/// most `threads` of them; 0: all), which split a range while it is longer than `grain` (so parts
+/// hold between about grain/2 and grain items).
 template <class Part>
 void split(std::size_t first, std::size_t count, unsigned threads, std::size_t grain, const Part& part) {
   grain = std::max<std::size_t>(1, grain);
@@ -43,13 +44,12 @@ void split(std::size_t first, std::size_t count, unsigned threads, std::size_t g
 #endif
 }
 
-/// Float jobs with the dispatched product, others with the job's own.
+/// Float jobs run with the dispatched product, others with the job's own.
+void run_part(const ForwardKinematicsJob<float>& part) { run(part); }
+void run_part(const BlockedForwardKinematicsJob<float>& part) { run(part); }
 template <class Job>
 void run_part(const Job& part) {
-  if constexpr (std::is_same_v<std::remove_const_t<typename decltype(Job::model)::value_type>, float>)
-    run(part);
-  else
-    part.run();
+  part.run();
 }
 
 /// Validates the job, then runs it in parts: copies of the job whose range (the members `first`

@@ -4,9 +4,9 @@
 // instantiated on lanes (bit for bit the scalar product).
 #include "dq/simd/pose_blocks.hpp"
 
+#include <cstdint>
+
 #include "lanes.hpp"
-
-
 
 namespace dq::simd {
 
@@ -17,21 +17,27 @@ using kernels::Lanes;
 using kernels::load;
 using kernels::store;
 
-constexpr std::size_t kLanes = DualQuaternionBlocks<float>::lanes;
+constexpr std::size_t kLanes = DualQuaternionBlocks<float>::poses_per_block;
 
 /// How far ahead of the joint block being computed the local and model streams are prefetched:
-/// four joint blocks (2 KB). The hardware prefetcher alone left one thread at about 0.8 of the
-/// copy bandwidth; with this, 0.87 to 0.99 (docs/performance.md). Prefetching past the end of an
-/// array is harmless (no fault).
-constexpr std::size_t kPrefetchAhead = 4 * DualQuaternionBlocks<float>::joint_values;
+/// four joint blocks (2 KB). With the hardware prefetcher alone, one thread reached 0.79 of the
+/// copy bandwidth at 100,000 skeletons; with this, 0.89 to 1.01 in four runs (docs/performance.md).
+constexpr std::uintptr_t kPrefetchAhead = 4 * DualQuaternionBlocks<float>::joint_values * sizeof(float);
+
+/// Prefetches the 8 cache lines of a joint block `kPrefetchAhead` bytes after `p`. The address is
+/// computed as an integer: past the end of the array it is never a pointer, and a prefetch of it
+/// does not fault.
+template <int Write>
+[[gnu::always_inline]] inline void prefetch_ahead(const float* p) {
+  const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(p) + kPrefetchAhead;
+  for (std::uintptr_t line = 0; line < 8; ++line) __builtin_prefetch(reinterpret_cast<const void*>(at + 64 * line), Write, 0);
+}
 
 /// model = parent · local for the 16 poses of one joint block, N lanes at a time.
 template <int N>
 [[gnu::always_inline]] inline void block_product(const float* parent, const float* local, float* model) {
-  for (std::size_t line = 0; line < 8; ++line) {  // a component row is one cache line
-    __builtin_prefetch(local + kPrefetchAhead + line * kLanes, 0, 0);
-    __builtin_prefetch(model + kPrefetchAhead + line * kLanes, 1, 0);
-  }
+  prefetch_ahead<0>(local);
+  prefetch_ahead<1>(model);
   for (std::size_t k = 0; k < kLanes; k += N) {
     auto at = [k](const float* p) {
       return DualQuaternion<Lanes<N>>{Quaternion<Lanes<N>>(load<N>(p + k), load<N>(p + kLanes + k), load<N>(p + 2 * kLanes + k), load<N>(p + 3 * kLanes + k)),

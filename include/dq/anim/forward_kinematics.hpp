@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <memory>
 #include <new>
 #include <cstddef>
@@ -173,7 +174,8 @@ struct ForwardKinematicsJob {
     for (std::size_t j = 0; j < joints; ++j)
       if (parents[j] >= static_cast<int>(j)) return Error{"joint " + std::to_string(j) + ": parent does not come before it"};
     if (local.stride != model.stride) return Error{"local and model strides differ"};
-    if (first_pose + pose_count > local.stride) return Error{"pose range exceeds the stride"};
+    if (first_pose > local.stride || pose_count > local.stride - first_pose) return Error{"pose range exceeds the stride"};
+    if (joints != 0 && local.stride > std::numeric_limits<std::size_t>::max() / joints) return Error{"joints × stride overflows the address range"};
     for (auto span : local.components())
       if (span.size() < joints * local.stride) return Error{"a component array is shorter than joints × stride"};
     for (auto span : model.components())

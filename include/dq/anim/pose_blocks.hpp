@@ -8,17 +8,19 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <new>
 #include <span>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include "dq/anim/forward_kinematics.hpp"
 
 namespace dq {
 
-/// Dual quaternions of many poses in blocks of `lanes` = 16 poses. Component c (real w, x, y, z,
+/// Dual quaternions of many poses in blocks of `poses_per_block` = 16 poses. Component c (real w, x, y, z,
 /// dual w, x, y, z) of joint j in pose p is at
 ///   data[((p / 16 · joints + j) · 8 + c) · 16 + p % 16],
 /// so one joint of one block is 8 × 16 contiguous values (a 64-byte cache line per component in
@@ -28,30 +30,32 @@ namespace dq {
 template <class T>
 struct DualQuaternionBlocks {
   using value_type = std::remove_const_t<T>;
-  static constexpr std::size_t lanes = 16;                   ///< poses per block
-  static constexpr std::size_t joint_values = 8 * lanes;     ///< values of one joint in one block
+  static constexpr std::size_t poses_per_block = 16;
+  static constexpr std::size_t joint_values = 8 * poses_per_block;  ///< values of one joint in one block
 
   std::span<T> data;
   std::size_t joints = 0;
   std::size_t blocks = 0;  ///< room for blocks × 16 poses
 
-  std::size_t poses() const noexcept { return blocks * lanes; }
+  std::size_t poses() const noexcept { return blocks * poses_per_block; }
   /// The 8 × 16 values of `joint` in `block`: component c of the block's pose l at [c · 16 + l].
   T* joint_block(std::size_t block, std::size_t joint) const noexcept { return data.data() + (block * joints + joint) * joint_values; }
 
   DualQuaternion<value_type> get(std::size_t joint, std::size_t pose) const {
     DQ_PRECONDITION(joint < joints && pose < poses(), "DualQuaternionBlocks::get: joint or pose out of range",
                     detail::nan_dual_quaternion<value_type>());
-    const T* v = joint_block(pose / lanes, joint) + pose % lanes;
-    return {v[0], v[lanes], v[2 * lanes], v[3 * lanes], v[4 * lanes], v[5 * lanes], v[6 * lanes], v[7 * lanes]};
+    constexpr std::size_t L = poses_per_block;
+    const T* v = joint_block(pose / L, joint) + pose % L;
+    return {v[0], v[L], v[2 * L], v[3 * L], v[4 * L], v[5 * L], v[6 * L], v[7 * L]};
   }
   void set(std::size_t joint, std::size_t pose, const DualQuaternion<value_type>& q) const
     requires(!std::is_const_v<T>)
   {
     DQ_PRECONDITION(joint < joints && pose < poses(), "DualQuaternionBlocks::set: joint or pose out of range");
-    T* v = joint_block(pose / lanes, joint) + pose % lanes;
+    constexpr std::size_t L = poses_per_block;
+    T* v = joint_block(pose / L, joint) + pose % L;
     const value_type c[8] = {q.real.w, q.real.x, q.real.y, q.real.z, q.dual.w, q.dual.x, q.dual.y, q.dual.z};
-    for (std::size_t k = 0; k < 8; ++k) v[k * lanes] = c[k];
+    for (std::size_t k = 0; k < 8; ++k) v[k * L] = c[k];
   }
 
   operator DualQuaternionBlocks<const T>() const  // NOLINT: implicit, like span<T> to span<const T>
@@ -71,12 +75,20 @@ class DualQuaternionBlockStorage {
 
   DualQuaternionBlockStorage(std::size_t joints, std::size_t poses)
       : joints_(joints),
-        blocks_((poses + DualQuaternionBlocks<T>::lanes - 1) / DualQuaternionBlocks<T>::lanes),
+        blocks_((poses + DualQuaternionBlocks<T>::poses_per_block - 1) / DualQuaternionBlocks<T>::poses_per_block),
         size_(joints_ * blocks_ * DualQuaternionBlocks<T>::joint_values),
         data_(allocate(size_)) {}
 
   DualQuaternionBlocks<T> view() noexcept { return {std::span<T>(data_.get(), size_), joints_, blocks_}; }
   DualQuaternionBlocks<const T> view() const noexcept { return {std::span<const T>(data_.get(), size_), joints_, blocks_}; }
+  /// A moved-from storage holds nothing (its views are empty).
+  DualQuaternionBlockStorage(DualQuaternionBlockStorage&& o) noexcept
+      : joints_(std::exchange(o.joints_, 0)), blocks_(std::exchange(o.blocks_, 0)), size_(std::exchange(o.size_, 0)), data_(std::move(o.data_)) {}
+  DualQuaternionBlockStorage& operator=(DualQuaternionBlockStorage&& o) noexcept {
+    joints_ = std::exchange(o.joints_, 0), blocks_ = std::exchange(o.blocks_, 0), size_ = std::exchange(o.size_, 0);
+    data_ = std::move(o.data_);
+    return *this;
+  }
 
  private:
   struct Free {
@@ -94,7 +106,8 @@ class DualQuaternionBlockStorage {
 
 /// Forward kinematics of the poses in blocks [first_block, first_block + block_count), in the
 /// style of ForwardKinematicsJob: model[j] = model[parent(j)] · local[j] for every pose, block by
-/// block, with the same product (bit for bit) as the joint-major job and as the scalar types.
+/// block, with the same product as the joint-major job (bit for bit) and the scalar types (whose
+/// float operator* may differ in the sign of an exact zero, docs/design.md).
 /// dq::simd::run (dq/simd/pose_blocks.hpp) runs it with the product vectorized for the CPU.
 template <class T>
 struct BlockedForwardKinematicsJob {
@@ -111,6 +124,8 @@ struct BlockedForwardKinematicsJob {
     if (local.joints != joints || model.joints != joints) return Error{"the local and model blocks must have one joint per parent entry"};
     if (local.blocks != model.blocks) return Error{"local and model hold different numbers of blocks"};
     if (first_block > local.blocks || block_count > local.blocks - first_block) return Error{"block range exceeds the blocks held"};
+    if (joints != 0 && local.blocks > std::numeric_limits<std::size_t>::max() / DualQuaternionBlocks<T>::joint_values / joints)
+      return Error{"blocks × joints × 128 values overflow the address range"};
     const std::size_t needed = local.blocks * joints * DualQuaternionBlocks<T>::joint_values;
     if (local.data.size() < needed || model.data.size() < needed) return Error{"a block array is shorter than blocks × joints × 128"};
     if (overlaps(local.data, model.data)) return Error{"the model blocks overlap the local ones"};
@@ -122,7 +137,7 @@ struct BlockedForwardKinematicsJob {
   void run() const {
     DQ_PRECONDITION(validate().ok(), "BlockedForwardKinematicsJob::run on a job that does not validate");
     run_blocks([](const T* parent, const T* in, T* out) {
-      constexpr std::size_t L = DualQuaternionBlocks<T>::lanes;
+      constexpr std::size_t L = DualQuaternionBlocks<T>::poses_per_block;
       auto rows = [](auto* p) { return detail::Row8<std::remove_reference_t<decltype(*p)>>{p, p + L, p + 2 * L, p + 3 * L, p + 4 * L, p + 5 * L, p + 6 * L, p + 7 * L}; };
       detail::dual_quaternion_product_rows<T>(rows(parent), rows(in), rows(out), 0, L);
     });

@@ -200,7 +200,7 @@ struct DualQuaternion {
   /// R p + t for a unit dual quaternion, in the short form that merges the translation into the
   /// rotation's second cross product: with real part (w, r) and dual part (w_d, d),
   /// p + 2 [r × (r × p + w p + d) + w d − w_d r]: 24 multiplications and 21 additions, where R p
-  /// and t apart take 33 and 24 (docs/operation-counts.md).
+  /// and t computed apart take 33 multiplications and 24 additions (docs/operation-counts.md).
   constexpr Vec3<T> transform_point(const Vec3<T>& p) const noexcept {
     const Vec3<T> r = real.vec(), d = dual.vec();
     return p + (cross(r, cross(r, p) + p * real.w + d) + d * real.w - r * dual.w) * T(2);

@@ -313,6 +313,8 @@ constexpr Quaternion<T> hamilton(const Quaternion<T>& a, const Quaternion<T>& b)
 // than SSE2's sixteen registers hold with the products: half of them went through integer
 // registers on every link.)
 using float4 = float __attribute__((vector_size(16)));
+static_assert(sizeof(Quaternion<float>) == sizeof(float4) && std::is_standard_layout_v<Quaternion<float>> &&
+              std::is_trivially_copyable_v<Quaternion<float>>, "to_lanes and from_lanes copy w, x, y, z as four floats");
 [[gnu::always_inline]] inline float4 to_lanes(const Quaternion<float>& q) noexcept {
   float4 v;
   std::memcpy(&v, &q, sizeof v);

@@ -39,9 +39,10 @@ Q align_sign(const Q& b, const T& d, Path path, InterpolationReport* report) {
   return flip ? -b : b;
 }
 
-/// q itself if it is unit to rounding (|q|² within 4 ε of 1: normalizing would move it by an ulp
-/// or two), else q.normalized(). For plain values: it saves slerp a square root and a division
-/// per input on the latency path (about a third of its time), with no effect beyond rounding.
+/// q itself if it is unit to rounding (|q|² within 4 ε of 1: normalizing would move each
+/// component by at most 2 ε relative, a few ulps), else q.normalized(). For plain values: it saves
+/// slerp a square root and a division per input on its latency path (with normalized() inlining
+/// its common path: 28 → 22 ns per float slerp), with no effect beyond rounding.
 template <class T>
 Quaternion<T> unit_to_rounding(const Quaternion<T>& q) {
   using std::abs;

@@ -110,8 +110,10 @@ void sclerp(ConstRows a, ConstRows b, float t, Rows out, std::size_t n);
 /// The batch forward kinematics job with the dispatched product. Precondition: job.validate().
 void run(const ForwardKinematicsJob<float>& job);
 
-/// Runs a job on oneTBB's persistent worker threads (no thread is started per call), split into
-/// pose ranges of at least `grain` poses, each written by one task (no synchronization needed).
+/// Runs a job on oneTBB's persistent worker threads (no thread is started per call; in a build
+/// without oneTBB, one thread per part, started for the call), split into pose ranges of at most
+/// `grain` poses (oneTBB halves a range while it is longer), each written by one task (no
+/// synchronization needed).
 /// `threads` limits the workers used (0: every hardware thread). Float jobs use the vectorized
 /// product (run above). Returns the job's validation error instead of running an invalid job.
 template <class T>

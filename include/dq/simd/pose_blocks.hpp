@@ -14,8 +14,9 @@ namespace dq::simd {
 /// job.validate().
 void run(const BlockedForwardKinematicsJob<float>& job);
 
-/// Runs a job on oneTBB's persistent worker threads, split into block ranges of at least `grain`
-/// blocks (16 poses each), each written by one task. `threads` limits the workers used (0: every
+/// Runs a job on oneTBB's persistent worker threads (in a build without oneTBB: one thread per part,
+/// started for the call), split into block ranges of at most `grain` blocks (16 poses each; oneTBB
+/// halves a range while it is longer), each written by one task. `threads` limits the workers used (0: every
 /// hardware thread). Float jobs use the dispatched product. Returns the job's validation error
 /// instead of running an invalid job.
 template <class T>
