@@ -1,8 +1,6 @@
 #include "dq/io/file.hpp"
 
 #include <fcntl.h>
-#include <pthread.h>
-#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -53,31 +51,10 @@ extern "C" void remove_temporaries_and_die(int sig) {
 
 std::string reason(int error) { return std::strerror(error); }
 
-/// The signals after which remove_temporary_files_on_signals removes the temporary files.
-constexpr std::array kCleanedSignals{SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGXFSZ};
-
-/// Blocks those signals on this thread for its lifetime: while a temporary file is created, a
-/// signal handled on this thread is delivered after the table is up to date (see create).
-class CleanedSignalsBlocked {
- public:
-  CleanedSignalsBlocked() {
-    sigset_t set;
-    sigemptyset(&set);
-    for (int sig : kCleanedSignals) sigaddset(&set, sig);
-    ::pthread_sigmask(SIG_BLOCK, &set, &old_);
-  }
-  ~CleanedSignalsBlocked() { ::pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
-  CleanedSignalsBlocked(const CleanedSignalsBlocked&) = delete;
-  CleanedSignalsBlocked& operator=(const CleanedSignalsBlocked&) = delete;
-
- private:
-  sigset_t old_;
-};
-
 }  // namespace
 
 void remove_temporary_files_on_signals() {
-  for (int sig : kCleanedSignals) {
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGXFSZ}) {
     struct sigaction old {};
     if (::sigaction(sig, nullptr, &old) != 0 || old.sa_handler != SIG_DFL) continue;  // e.g. nohup's SIGHUP
     struct sigaction action {};
@@ -103,13 +80,12 @@ Expected<OutputFile> OutputFile::create(const std::filesystem::path& path, Overw
   out.path_ = path;
   out.overwrite_ = overwrite;
   std::random_device rd;
-  const CleanedSignalsBlocked blocked;
   int error = 0;
   for (int attempt = 0; attempt < 16 && out.fd_ < 0; ++attempt) {
     out.temporary_ = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd()));
-    // Entered in the handler's table before it is created: a signal handled on another thread
-    // (which this thread's mask does not cover) cannot land between creation and registration.
-    // A name that turns out to be taken (O_EXCL) leaves the table at once.
+    // Entered in the handler's table before it is created, so that no signal, on any thread, lands
+    // between its creation and its registration. A name that turns out to be taken (O_EXCL)
+    // leaves the table at once.
     out.slot_ = claim_slot(out.temporary_);
     out.fd_ = ::open(out.temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     error = errno;

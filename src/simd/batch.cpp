@@ -40,8 +40,11 @@ void put(OutXyz p, std::size_t i, const Vec3<float>& v) { p[0][i] = v.x, p[1][i]
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
 using kernels::Lanes;
 using kernels::load;
+using kernels::load8;
 using kernels::polynomial;
+using kernels::product;
 using kernels::store;
+using kernels::store8;
 
 // Coefficients in float: atan(z)/z in z² (for z ≤ tan π/8), cos h and sin h / h in h² (for h ≤ π/2).
 constexpr auto kAtanc = detail::series_coefficients<float, 10>([](std::size_t k) { return (k % 2 ? -1.0f : 1.0f) / float(2 * k + 1); });
@@ -52,16 +55,6 @@ constexpr auto kSinc = detail::series_coefficients<float, 8>([](std::size_t k) {
   return (k % 2 ? -1.0f : 1.0f) * detail::inverse_factorial<float>(2 * k + 1);
 });
 
-template <int N>
-[[gnu::always_inline]] inline DualQuaternion<Lanes<N>> load8(ConstRows r, std::size_t i) {
-  return {Quaternion<Lanes<N>>(load<N>(r.rw + i), load<N>(r.rx + i), load<N>(r.ry + i), load<N>(r.rz + i)),
-          Quaternion<Lanes<N>>(load<N>(r.dw + i), load<N>(r.dx + i), load<N>(r.dy + i), load<N>(r.dz + i))};
-}
-template <int N>
-[[gnu::always_inline]] inline void store8(Rows r, std::size_t i, const DualQuaternion<Lanes<N>>& q) {
-  store<N>(r.rw + i, q.real.w), store<N>(r.rx + i, q.real.x), store<N>(r.ry + i, q.real.y), store<N>(r.rz + i, q.real.z);
-  store<N>(r.dw + i, q.dual.w), store<N>(r.dx + i, q.dual.x), store<N>(r.dy + i, q.dual.y), store<N>(r.dz + i, q.dual.z);
-}
 template <int N>
 [[gnu::always_inline]] inline Quaternion<Lanes<N>> load4(QuaternionRows<const float> r, std::size_t i) {
   return {load<N>(r.w + i), load<N>(r.x + i), load<N>(r.y + i), load<N>(r.z + i)};
@@ -105,12 +98,6 @@ template <int N>
                                 select_less(sign, zero, -p.z, p.z));
   };
   return {q(x.real), q(x.dual)};
-}
-
-/// The dual quaternion product of the scalar types (detail::dual_product over detail::hamilton).
-template <int N>
-[[gnu::always_inline]] inline DualQuaternion<Lanes<N>> product(const DualQuaternion<Lanes<N>>& a, const DualQuaternion<Lanes<N>>& b) {
-  return detail::dual_product(a, b, [](const Quaternion<Lanes<N>>& l, const Quaternion<Lanes<N>>& r) { return detail::hamilton(l, r); });
 }
 
 /// The Hamilton product in the order of operations of the four-lane float product that the scalar

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstring>
 
+#include "dq/anim/forward_kinematics.hpp"
 #include "vector_types.hpp"
 
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
@@ -47,6 +48,24 @@ template <int N>
 template <int N>
 [[gnu::always_inline]] inline void store(float* p, const Lanes<N>& x) {
   std::memcpy(p, &x.v, sizeof x.v);
+}
+
+/// N dual quaternions from element i of eight component rows, and back.
+template <int N>
+[[gnu::always_inline]] inline DualQuaternion<Lanes<N>> load8(detail::Row8<const float> r, std::size_t i) {
+  return {Quaternion<Lanes<N>>(load<N>(r.rw + i), load<N>(r.rx + i), load<N>(r.ry + i), load<N>(r.rz + i)),
+          Quaternion<Lanes<N>>(load<N>(r.dw + i), load<N>(r.dx + i), load<N>(r.dy + i), load<N>(r.dz + i))};
+}
+template <int N>
+[[gnu::always_inline]] inline void store8(detail::Row8<float> r, std::size_t i, const DualQuaternion<Lanes<N>>& q) {
+  store<N>(r.rw + i, q.real.w), store<N>(r.rx + i, q.real.x), store<N>(r.ry + i, q.real.y), store<N>(r.rz + i, q.real.z);
+  store<N>(r.dw + i, q.dual.w), store<N>(r.dx + i, q.dual.x), store<N>(r.dy + i, q.dual.y), store<N>(r.dz + i, q.dual.z);
+}
+
+/// The dual quaternion product of the scalar types (detail::dual_product over detail::hamilton).
+template <int N>
+[[gnu::always_inline]] inline DualQuaternion<Lanes<N>> product(const DualQuaternion<Lanes<N>>& a, const DualQuaternion<Lanes<N>>& b) {
+  return detail::dual_product(a, b, [](const Quaternion<Lanes<N>>& l, const Quaternion<Lanes<N>>& r) { return detail::hamilton(l, r); });
 }
 
 }  // namespace dq::kernels

@@ -13,9 +13,9 @@ namespace dq::simd {
 namespace {
 
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-using kernels::Lanes;
-using kernels::load;
-using kernels::store;
+using kernels::load8;
+using kernels::product;
+using kernels::store8;
 
 constexpr std::size_t kLanes = DualQuaternionBlocks<float>::poses_per_block;
 
@@ -24,9 +24,9 @@ constexpr std::size_t kLanes = DualQuaternionBlocks<float>::poses_per_block;
 /// copy bandwidth at 100,000 skeletons; with this, 0.89 to 1.01 in four runs (docs/performance.md).
 constexpr std::uintptr_t kPrefetchAhead = 4 * DualQuaternionBlocks<float>::joint_values * sizeof(float);
 
-/// Prefetches the 8 cache lines of a joint block `kPrefetchAhead` bytes after `p`. The address is
-/// computed as an integer: past the end of the array it is never a pointer, and a prefetch of it
-/// does not fault.
+/// Prefetches the 8 cache lines of the joint block `kPrefetchAhead` bytes after the one whose first
+/// row is at `p`. The address is computed as an integer: past the end of the array it is never a
+/// pointer, and a prefetch of it does not fault.
 template <int Write>
 [[gnu::always_inline]] inline void prefetch_ahead(const float* p) {
   const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(p) + kPrefetchAhead;
@@ -35,25 +35,15 @@ template <int Write>
 
 /// model = parent · local for the 16 poses of one joint block, N lanes at a time.
 template <int N>
-[[gnu::always_inline]] inline void block_product(const float* parent, const float* local, float* model) {
-  prefetch_ahead<0>(local);
-  prefetch_ahead<1>(model);
-  for (std::size_t k = 0; k < kLanes; k += N) {
-    auto at = [k](const float* p) {
-      return DualQuaternion<Lanes<N>>{Quaternion<Lanes<N>>(load<N>(p + k), load<N>(p + kLanes + k), load<N>(p + 2 * kLanes + k), load<N>(p + 3 * kLanes + k)),
-                                      Quaternion<Lanes<N>>(load<N>(p + 4 * kLanes + k), load<N>(p + 5 * kLanes + k), load<N>(p + 6 * kLanes + k),
-                                                           load<N>(p + 7 * kLanes + k))};
-    };
-    const DualQuaternion<Lanes<N>> q =
-        detail::dual_product(at(parent), at(local), [](const Quaternion<Lanes<N>>& l, const Quaternion<Lanes<N>>& r) { return detail::hamilton(l, r); });
-    const Lanes<N> c[8] = {q.real.w, q.real.x, q.real.y, q.real.z, q.dual.w, q.dual.x, q.dual.y, q.dual.z};
-    for (std::size_t i = 0; i < 8; ++i) store<N>(model + i * kLanes + k, c[i]);
-  }
+[[gnu::always_inline]] inline void block_product(ConstRows parent, ConstRows local, Rows model) {
+  prefetch_ahead<0>(local.rw);
+  prefetch_ahead<1>(model.rw);
+  for (std::size_t k = 0; k < kLanes; k += N) store8<N>(model, k, product(load8<N>(parent, k), load8<N>(local, k)));
 }
 
 #define DQKIT_TARGET_KERNEL(name, lanes, attribute)                                                       \
   [[gnu::target(attribute), gnu::flatten]] void run_##name(const BlockedForwardKinematicsJob<float>& job) { \
-    job.run_blocks([](const float* parent, const float* local, float* model) { block_product<lanes>(parent, local, model); }); \
+    job.run_blocks([](ConstRows parent, ConstRows local, Rows model) { block_product<lanes>(parent, local, model); }); \
   }
 DQKIT_TARGET_KERNEL(sse2, 4, "sse2")
 DQKIT_TARGET_KERNEL(avx2, 8, "avx2")

@@ -40,6 +40,12 @@ struct DualQuaternionBlocks {
   std::size_t poses() const noexcept { return blocks * poses_per_block; }
   /// The 8 × 16 values of `joint` in `block`: component c of the block's pose l at [c · 16 + l].
   T* joint_block(std::size_t block, std::size_t joint) const noexcept { return data.data() + (block * joints + joint) * joint_values; }
+  /// The same values as eight component rows of 16 poses (the rows the batch products take).
+  detail::Row8<T> joint_rows(std::size_t block, std::size_t joint) const noexcept {
+    T* v = joint_block(block, joint);
+    constexpr std::size_t L = poses_per_block;
+    return {v, v + L, v + 2 * L, v + 3 * L, v + 4 * L, v + 5 * L, v + 6 * L, v + 7 * L};
+  }
 
   DualQuaternion<value_type> get(std::size_t joint, std::size_t pose) const {
     DQ_PRECONDITION(joint < joints && pose < poses(), "DualQuaternionBlocks::get: joint or pose out of range",
@@ -136,27 +142,26 @@ struct BlockedForwardKinematicsJob {
   /// validate is reported to the precondition handler and does nothing).
   void run() const {
     DQ_PRECONDITION(validate().ok(), "BlockedForwardKinematicsJob::run on a job that does not validate");
-    run_blocks([](const T* parent, const T* in, T* out) {
-      constexpr std::size_t L = DualQuaternionBlocks<T>::poses_per_block;
-      auto rows = [](auto* p) { return detail::Row8<std::remove_reference_t<decltype(*p)>>{p, p + L, p + 2 * L, p + 3 * L, p + 4 * L, p + 5 * L, p + 6 * L, p + 7 * L}; };
-      detail::dual_quaternion_product_rows<T>(rows(parent), rows(in), rows(out), 0, L);
+    run_blocks([](detail::Row8<const T> parent, detail::Row8<const T> in, detail::Row8<T> out) {
+      detail::dual_quaternion_product_rows<T>(parent, in, out, 0, DualQuaternionBlocks<T>::poses_per_block);
     });
   }
 
   /// The job's loops with another implementation of the product of one joint of one block:
-  /// `product(parent, local, model)`, each pointing at 8 × 16 values laid out as joint_block's.
+  /// `product(parent, local, model)`, each the eight component rows of 16 poses (joint_rows).
   /// Roots are copied. Call validate() first.
   template <class BlockProduct>
   void run_blocks(BlockProduct product) const {
     for (std::size_t b = first_block; b < first_block + block_count; ++b)
       for (std::size_t j = 0; j < parents.size(); ++j) {
-        const T* in = local.joint_block(b, j);
-        T* out = model.joint_block(b, j);
         const int p = parents[j];
-        if (p < 0)
-          std::copy(in, in + DualQuaternionBlocks<T>::joint_values, out);
-        else
-          product(model.joint_block(b, static_cast<std::size_t>(p)), in, out);
+        if (p < 0) {
+          const T* in = local.joint_block(b, j);
+          std::copy(in, in + DualQuaternionBlocks<T>::joint_values, model.joint_block(b, j));
+        } else {
+          const DualQuaternionBlocks<const T> written = model;
+          product(written.joint_rows(b, static_cast<std::size_t>(p)), local.joint_rows(b, j), model.joint_rows(b, j));
+        }
       }
   }
 };
