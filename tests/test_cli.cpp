@@ -374,7 +374,7 @@ TEST_F(CliScript, OutputsNeverReplaceWhatTheyShouldNot) {
   // The input, also through a hard link or a symbolic link, for every command.
   fs::create_hard_link(dir_ / "in.bvh", dir_ / "hard.csv");
   fs::create_symlink(dir_ / "in.bvh", dir_ / "soft.csv");
-  for (const std::string& out : {"in.bvh", "hard.csv", "soft.csv"}) {
+  for (const char* out : {"in.bvh", "hard.csv", "soft.csv"}) {
     for (const std::string& cmd : {"fk " + p("in.bvh") + " -o " + p(out), "info " + p("in.bvh") + " -o " + p(out)}) {
       const Outcome r = run(cmd + " --force");
       EXPECT_EQ(r.code, 1) << cmd;

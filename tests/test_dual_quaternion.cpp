@@ -187,6 +187,8 @@ TEST(DualQuaternion, CastBetweenScalarTypes) {
   EXPECT_EQ(d.dual.z, double(0.1f));
   EXPECT_EQ(d.cast<float>(), f);  // float → double → float is exact
   EXPECT_EQ(Quaternion<double>(0.1, 0.2, 0.3, 0.4).cast<float>(), Quaternion<float>(0.1f, 0.2f, 0.3f, 0.4f));
+  EXPECT_EQ(Vec3<double>(0.1, -1e30, 7.0).cast<float>(), Vec3<float>(0.1f, -1e30f, 7.0f));
+  EXPECT_EQ(Vec3<float>(0.1f, 1e-40f, -2.5f).cast<double>(), Vec3<double>(double(0.1f), double(1e-40f), -2.5));
 }
 
 TEST(DualQuaternion, DualScalarMultiplication) {

@@ -12,7 +12,7 @@ namespace dqpy {
 namespace {
 
 using DQd = dq::DualQuaternion<double>;
-using V = dq::Vec3<double>;
+using Vd = dq::Vec3<double>;
 
 /// A writable, contiguous float64 vector of `n` values, taken in place (IkSolver.solve writes q).
 std::span<double> inout_vector(py::array& a, std::size_t n, const char* name) {
@@ -27,8 +27,8 @@ void bind_ik_types(py::module_& m) {
       .value("revolute", dq::DofType::revolute).value("prismatic", dq::DofType::prismatic)
       .value("ball", dq::DofType::ball).value("free", dq::DofType::free);
   py::class_<dq::Dof>(m, "Dof", "A degree of freedom of a joint (revolute/prismatic about a unit axis, ball: 3, free: 6 parameters).")
-      .def(py::init([](int joint, dq::DofType type, const V& axis, std::string name) { return dq::Dof{joint, type, axis, std::move(name)}; }),
-           py::arg("joint"), py::arg("type"), py::arg("axis") = V{1, 0, 0}, py::arg("name") = "")
+      .def(py::init([](int joint, dq::DofType type, const Vd& axis, std::string name) { return dq::Dof{joint, type, axis, std::move(name)}; }),
+           py::arg("joint"), py::arg("type"), py::arg("axis") = Vd{1, 0, 0}, py::arg("name") = "")
       .def_readwrite("joint", &dq::Dof::joint).def_readwrite("type", &dq::Dof::type)
       .def_readwrite("axis", &dq::Dof::axis).def_readwrite("name", &dq::Dof::name);
   py::class_<dq::ParameterLimits>(m, "ParameterLimits")
@@ -68,11 +68,11 @@ void bind_ik_types(py::module_& m) {
       .def_readwrite("point", &dq::IkTask::point).def_readwrite("target", &dq::IkTask::target)
       .def_readwrite("axis", &dq::IkTask::axis).def_readwrite("location", &dq::IkTask::location)
       .def_readwrite("weight", &dq::IkTask::weight).def_readwrite("priority", &dq::IkTask::priority)
-      .def_static("reach", &dq::IkTask::reach, py::arg("joint"), py::arg("target"), py::arg("point") = V{})
-      .def_static("frame", &dq::IkTask::frame, py::arg("joint"), py::arg("target"), py::arg("point") = V{})
+      .def_static("reach", &dq::IkTask::reach, py::arg("joint"), py::arg("target"), py::arg("point") = Vd{})
+      .def_static("frame", &dq::IkTask::frame, py::arg("joint"), py::arg("target"), py::arg("point") = Vd{})
       .def_static("rotation", &dq::IkTask::rotation, py::arg("joint"), py::arg("target"))
-      .def_static("aim_at", &dq::IkTask::aim_at, py::arg("joint"), py::arg("local_axis"), py::arg("target"), py::arg("point") = V{})
-      .def_static("onto_line", &dq::IkTask::onto_line, py::arg("joint"), py::arg("line_point"), py::arg("direction"), py::arg("point") = V{});
+      .def_static("aim_at", &dq::IkTask::aim_at, py::arg("joint"), py::arg("local_axis"), py::arg("target"), py::arg("point") = Vd{})
+      .def_static("onto_line", &dq::IkTask::onto_line, py::arg("joint"), py::arg("line_point"), py::arg("direction"), py::arg("point") = Vd{});
   py::enum_<dq::IkMethod>(m, "IkMethod")
       .value("levenberg_marquardt", dq::IkMethod::levenberg_marquardt)
       .value("newton", dq::IkMethod::newton)
@@ -175,7 +175,7 @@ void bind_skin_types(py::module_& m) {
     const auto b = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(bones);
     const auto w = as_float64(weights, {p.shape(0), -1}, "weights");
     if (!b || b.ndim() != 2 || b.shape(0) != w.shape(0) || b.shape(1) != w.shape(1))
-      throw py::value_error("bones: expected an int array of shape (V, K), the shape of weights");
+      throw py::value_error("bones: expected an int array of shape (Vd, K), the shape of weights");
     const auto ib = as_float64(inverse_bind, {-1, 4, 4}, "inverse_bind");
     dq::RawSkin raw;
     const auto vertices = static_cast<std::size_t>(p.shape(0)), slots = static_cast<std::size_t>(w.shape(1));
@@ -208,7 +208,7 @@ void bind_skin_types(py::module_& m) {
     return unwrap(dq::build_skin(raw, o));
   }, py::arg("positions"), py::arg("bones"), py::arg("weights"), py::arg("inverse_bind"), py::arg("triangles") = py::none(),
      py::arg("options") = dq::SkinOptions{},
-     "A skin from (V, 3) positions, (V, K) bone indices and weights (zero weights ignored), (B, 4, 4) inverse bind matrices "
+     "A skin from (Vd, 3) positions, (Vd, K) bone indices and weights (zero weights ignored), (B, 4, 4) inverse bind matrices "
      "and optional (T, 3) triangles (needed for SkinningMethod.cor).");
   m.def("skin_vertices", [](const dq::Skin& skin, py::handle bone_world, dq::SkinningMethod method) {
     const auto bw = dual_quaternions_from_numpy(bone_world, "bone_world");
@@ -231,7 +231,7 @@ void bind_skin_types(py::module_& m) {
     for (std::size_t v = 0; v < n; ++v) o(v, 0) = px[v], o(v, 1) = py_[v], o(v, 2) = pz[v];
     return out;
   }, py::arg("skin"), py::arg("bone_world"), py::arg("method") = dq::SkinningMethod::dqs,
-     "(V, 3) float32 skinned positions for (B, 8) bone world transforms.");
+     "(Vd, 3) float32 skinned positions for (B, 8) bone world transforms.");
 
   py::class_<dq::SkinnedFrame>(m, "SkinnedFrame")
       .def_property_readonly("positions", [](const dq::SkinnedFrame& f) {
@@ -239,7 +239,7 @@ void bind_skin_types(py::module_& m) {
         auto o = a.mutable_unchecked<2>();
         for (std::size_t v = 0; v < f.size(); ++v) o(v, 0) = f.px[v], o(v, 1) = f.py[v], o(v, 2) = f.pz[v];
         return a;
-      }, "(V, 3) float32 positions (a copy).")
+      }, "(Vd, 3) float32 positions (a copy).")
       .def_property_readonly("triangles", [](const dq::SkinnedFrame& f) {
         return py::array_t<std::uint32_t>({static_cast<py::ssize_t>(f.triangles.size() / 3), py::ssize_t{3}}, f.triangles.data());
       });

@@ -128,9 +128,11 @@ IkResult fabrik(const KinematicModel& model, const IkTask& task, std::span<doubl
     const std::size_t b = model.joint_dofs_begin(ju), e = model.joint_dofs_begin(ju + 1);
     if (j == task.joint && e == b) continue;  // an effector without DOFs (an End Site) rides on its parent
     if (e - b != 1 || model.dofs()[b].type != DofType::ball) break;  // up to a joint that is not a ball
-    joints.insert(joints.begin(), ju);
-    ball_dof.insert(ball_dof.begin(), b);
+    joints.push_back(ju);
+    ball_dof.push_back(b);
   }
+  std::reverse(joints.begin(), joints.end());
+  std::reverse(ball_dof.begin(), ball_dof.end());
   if (joints.empty()) return invalid("FABRIK needs a chain of ball joints above the effector");
   model.clamp(q);
   Chain chain(model);

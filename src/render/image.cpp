@@ -24,7 +24,7 @@ void Bounds::add(const Bounds& b) {
 
 Bounds Mesh::bounds() const {
   Bounds b;
-  for (const Vec3<float>& p : positions) b.add({p.x, p.y, p.z});
+  for (const Vec3<float>& p : positions) b.add(p.cast<double>());
   return b;
 }
 
@@ -32,9 +32,9 @@ Bounds Scene::bounds() const {
   Bounds b;
   for (const Mesh& m : meshes) b.add(m.bounds());
   for (const Lines& l : lines)
-    for (const Vec3<float>& p : l.points) b.add({p.x, p.y, p.z});
+    for (const Vec3<float>& p : l.points) b.add(p.cast<double>());
   for (const Points& s : points)
-    for (const Vec3<float>& p : s.positions) b.add({p.x, p.y, p.z});
+    for (const Vec3<float>& p : s.positions) b.add(p.cast<double>());
   return b;
 }
 

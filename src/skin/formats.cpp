@@ -76,8 +76,8 @@ Expected<std::string> to_gltf(const SkinnedFrame& f) {
   prim.mode = TINYGLTF_MODE_TRIANGLES;
   const int pos = accessor(view(push(xyz.data(), xyz.size() * sizeof(float)), xyz.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
                            TINYGLTF_COMPONENT_TYPE_FLOAT, n, TINYGLTF_TYPE_VEC3);
-  model.accessors[static_cast<std::size_t>(pos)].minValues = {lo[0], lo[1], lo[2]};
-  model.accessors[static_cast<std::size_t>(pos)].maxValues = {hi[0], hi[1], hi[2]};
+  model.accessors[static_cast<std::size_t>(pos)].minValues = {static_cast<double>(lo[0]), static_cast<double>(lo[1]), static_cast<double>(lo[2])};
+  model.accessors[static_cast<std::size_t>(pos)].maxValues = {static_cast<double>(hi[0]), static_cast<double>(hi[1]), static_cast<double>(hi[2])};
   prim.attributes["POSITION"] = pos;
   if (normals) {
     for (std::size_t v = 0; v < n; ++v) xyz[3 * v] = f.nx[v], xyz[3 * v + 1] = f.ny[v], xyz[3 * v + 2] = f.nz[v];

@@ -11,8 +11,6 @@ namespace dq {
 
 namespace {
 
-Vec3<double> to_double(const Vec3<float>& v) { return {v.x, v.y, v.z}; }
-
 bool finite(const Vec3<float>& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 Mat3<double> block(const Mat4<double>& m) {
@@ -161,7 +159,7 @@ void SkinCenters::compute(Skin& s, double sigma) {
     Vec3<double> p[3];
     for (int c = 0; c < 3; ++c) {
       const std::size_t v = s.triangles_[3 * t + static_cast<std::size_t>(c)];
-      p[c] = to_double(s.position(v));
+      p[c] = s.position(v).cast<double>();
       for (const auto& [b, w] : vertex[v]) sum[b] += w / 3;
     }
     tri_w[t].assign(sum.begin(), sum.end());
@@ -205,7 +203,7 @@ void SkinCenters::compute(Skin& s, double sigma) {
           total += k;
         }
       }
-    const Vec3<double> c = total > 0 ? acc / total : to_double(s.position(v));
+    const Vec3<double> c = total > 0 ? acc / total : s.position(v).cast<double>();
     s.cx_[v] = static_cast<float>(c.x), s.cy_[v] = static_cast<float>(c.y), s.cz_[v] = static_cast<float>(c.z);
   }
 }

@@ -77,7 +77,7 @@ int run_render(const RenderArgs& a) {
   for (std::size_t f = 0; f < frames; ++f)
     for (SkinningMethod method : methods) {
       skin_at(anim ? static_cast<double>(f) * anim->frame_time : 0, method);
-      for (std::size_t v = 0; v < frame.size(); ++v) bounds.add({frame.px[v], frame.py[v], frame.pz[v]});
+      for (std::size_t v = 0; v < frame.size(); ++v) bounds.add({static_cast<double>(frame.px[v]), static_cast<double>(frame.py[v]), static_cast<double>(frame.pz[v])});
     }
   const std::vector<render::Viewport> viewports = render::columns(width, height, static_cast<int>(methods.size()));
   const double aspect = double(viewports[0].width) / double(viewports[0].height);

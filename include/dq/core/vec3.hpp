@@ -18,6 +18,12 @@ struct Vec3 {
   constexpr const T& operator[](int i) const noexcept { return i == 0 ? x : (i == 1 ? y : z); }
   constexpr T& operator[](int i) noexcept { return i == 0 ? x : (i == 1 ? y : z); }
 
+  /// The same vector in another scalar type (each component converted with static_cast).
+  template <class U>
+  constexpr Vec3<U> cast() const noexcept {
+    return {static_cast<U>(x), static_cast<U>(y), static_cast<U>(z)};
+  }
+
   constexpr Vec3& operator+=(const Vec3& o) noexcept { x += o.x; y += o.y; z += o.z; return *this; }
   constexpr Vec3& operator-=(const Vec3& o) noexcept { x -= o.x; y -= o.y; z -= o.z; return *this; }
   constexpr Vec3& operator*=(const T& s) noexcept { x *= s; y *= s; z *= s; return *this; }
