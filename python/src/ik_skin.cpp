@@ -175,7 +175,7 @@ void bind_skin_types(py::module_& m) {
     const auto b = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(bones);
     const auto w = as_float64(weights, {p.shape(0), -1}, "weights");
     if (!b || b.ndim() != 2 || b.shape(0) != w.shape(0) || b.shape(1) != w.shape(1))
-      throw py::value_error("bones: expected an int array of shape (Vd, K), the shape of weights");
+      throw py::value_error("bones: expected an int array of shape (V, K), the shape of weights");
     const auto ib = as_float64(inverse_bind, {-1, 4, 4}, "inverse_bind");
     dq::RawSkin raw;
     const auto vertices = static_cast<std::size_t>(p.shape(0)), slots = static_cast<std::size_t>(w.shape(1));
@@ -208,7 +208,7 @@ void bind_skin_types(py::module_& m) {
     return unwrap(dq::build_skin(raw, o));
   }, py::arg("positions"), py::arg("bones"), py::arg("weights"), py::arg("inverse_bind"), py::arg("triangles") = py::none(),
      py::arg("options") = dq::SkinOptions{},
-     "A skin from (Vd, 3) positions, (Vd, K) bone indices and weights (zero weights ignored), (B, 4, 4) inverse bind matrices "
+     "A skin from (V, 3) positions, (V, K) bone indices and weights (zero weights ignored), (B, 4, 4) inverse bind matrices "
      "and optional (T, 3) triangles (needed for SkinningMethod.cor).");
   m.def("skin_vertices", [](const dq::Skin& skin, py::handle bone_world, dq::SkinningMethod method) {
     const auto bw = dual_quaternions_from_numpy(bone_world, "bone_world");
@@ -231,7 +231,7 @@ void bind_skin_types(py::module_& m) {
     for (std::size_t v = 0; v < n; ++v) o(v, 0) = px[v], o(v, 1) = py_[v], o(v, 2) = pz[v];
     return out;
   }, py::arg("skin"), py::arg("bone_world"), py::arg("method") = dq::SkinningMethod::dqs,
-     "(Vd, 3) float32 skinned positions for (B, 8) bone world transforms.");
+     "(V, 3) float32 skinned positions for (B, 8) bone world transforms.");
 
   py::class_<dq::SkinnedFrame>(m, "SkinnedFrame")
       .def_property_readonly("positions", [](const dq::SkinnedFrame& f) {
@@ -239,7 +239,7 @@ void bind_skin_types(py::module_& m) {
         auto o = a.mutable_unchecked<2>();
         for (std::size_t v = 0; v < f.size(); ++v) o(v, 0) = f.px[v], o(v, 1) = f.py[v], o(v, 2) = f.pz[v];
         return a;
-      }, "(Vd, 3) float32 positions (a copy).")
+      }, "(V, 3) float32 positions (a copy).")
       .def_property_readonly("triangles", [](const dq::SkinnedFrame& f) {
         return py::array_t<std::uint32_t>({static_cast<py::ssize_t>(f.triangles.size() / 3), py::ssize_t{3}}, f.triangles.data());
       });

@@ -201,7 +201,22 @@ struct DualQuaternion {
   /// rotation's second cross product: with real part (w, r) and dual part (w_d, d),
   /// p + 2 [r × (r × p + w p + d) + w d − w_d r]: 24 multiplications and 21 additions, where R p
   /// and t computed apart take 33 multiplications and 24 additions (docs/operation-counts.md).
+  /// For float it may run x, y and z in the lanes of one vector (DQKIT_VEC3_LANES), bit-identical.
   constexpr Vec3<T> transform_point(const Vec3<T>& p) const noexcept {
+#if DQKIT_VEC3_LANES
+    if constexpr (std::is_same_v<T, float>) {
+      if (!std::is_constant_evaluated()) {
+        using detail::float4, detail::yzx, detail::zxy;
+        const float4 qr = detail::to_lanes(real), qd = detail::to_lanes(dual), vp = detail::to_lanes(p);
+        const float4 r_yzx = detail::vec_yzx(qr), r_zxy = detail::vec_zxy(qr);
+        const float4 w = __builtin_shufflevector(qr, qr, 0, 0, 0, 0), w_d = __builtin_shufflevector(qd, qd, 0, 0, 0, 0);
+        const float4 d = detail::vec_xyz(qd);
+        const float4 s = ((r_yzx * zxy(vp) - r_zxy * yzx(vp)) + vp * w) + d;
+        const float4 u = ((r_yzx * zxy(s) - r_zxy * yzx(s)) + d * w) - detail::vec_xyz(qr) * w_d;
+        return detail::vec3_from_lanes(vp + u * float4{2, 2, 2, 2});
+      }
+    }
+#endif
     const Vec3<T> r = real.vec(), d = dual.vec();
     return p + (cross(r, cross(r, p) + p * real.w + d) + d * real.w - r * dual.w) * T(2);
   }

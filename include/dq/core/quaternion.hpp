@@ -56,6 +56,7 @@ namespace detail {
 template <class T>
 constexpr Quaternion<T> hamilton(const Quaternion<T>& a, const Quaternion<T>& b) noexcept;
 Quaternion<float> hamilton_lanes(const Quaternion<float>& a, const Quaternion<float>& b) noexcept;
+Vec3<float> rotate_lanes(const Quaternion<float>& q, const Vec3<float>& v) noexcept;
 template <class T>
 Quaternion<T> exp_pure(const Vec3<T>& v);
 template <class T>
@@ -199,7 +200,14 @@ struct Quaternion {
   Vec3<T> to_rotation_vector() const { return detail::log_unit_vector(canonical()) * T(2); }
 
   /// Rotates v (q unit): v + 2w (u × v) + 2 u × (u × v): 18 multiplications, 12 additions.
+  /// For float it may run x, y and z in the lanes of one vector (detail::rotate_lanes,
+  /// DQKIT_VEC3_LANES), bit-identical.
   constexpr Vec3<T> rotate(const Vec3<T>& v) const noexcept {
+#if DQKIT_VEC3_LANES
+    if constexpr (std::is_same_v<T, float>) {
+      if (!std::is_constant_evaluated()) return detail::rotate_lanes(*this, v);
+    }
+#endif
     const Vec3<T> u = vec();
     const Vec3<T> t = cross(u, v) * T(2);
     return v + t * w + cross(u, t);
@@ -340,6 +348,38 @@ static_assert(sizeof(Quaternion<float>) == sizeof(float4) && std::is_standard_la
 }
 inline Quaternion<float> hamilton_lanes(const Quaternion<float>& a, const Quaternion<float>& b) noexcept {
   return from_lanes(hamilton_lanes(to_lanes(a), to_lanes(b)));
+}
+
+// Three-vectors in lanes 0-2 (x, y, z; lane 3 is carried along and dropped), for the rotation
+// and the point transform: a cross product a × b is a_yzx b_zxy − a_zxy b_yzx, lane by lane the
+// scalar cross's products and difference, so the results are the scalar formulas' bit for bit.
+static_assert(sizeof(Vec3<float>) == 3 * sizeof(float) && std::is_trivially_copyable_v<Vec3<float>>,
+              "to_lanes and vec3_from_lanes copy x, y, z as three floats");
+[[gnu::always_inline]] inline float4 to_lanes(const Vec3<float>& v) noexcept {
+  // x and y as one 8-byte load, z as a 4-byte one (a 12-byte memcpy into a vector went through
+  // the stack; built from three scalars, GCC spilled one).
+  using float2 = float __attribute__((vector_size(8)));
+  float2 xy;
+  std::memcpy(&xy, &v, sizeof xy);
+  return __builtin_shufflevector(xy, float2{v.z, 0.0f}, 0, 1, 2, 3);
+}
+[[gnu::always_inline]] inline Vec3<float> vec3_from_lanes(const float4& r) noexcept {
+  Vec3<float> v;
+  std::memcpy(static_cast<void*>(&v), &r, sizeof v);
+  return v;
+}
+[[gnu::always_inline]] inline float4 yzx(const float4& v) noexcept { return __builtin_shufflevector(v, v, 1, 2, 0, 3); }
+[[gnu::always_inline]] inline float4 zxy(const float4& v) noexcept { return __builtin_shufflevector(v, v, 2, 0, 1, 3); }
+/// The vector part (x, y, z) of a quaternion's lanes (w, x, y, z), and its rotations yzx, zxy.
+[[gnu::always_inline]] inline float4 vec_xyz(const float4& q) noexcept { return __builtin_shufflevector(q, q, 1, 2, 3, 0); }
+[[gnu::always_inline]] inline float4 vec_yzx(const float4& q) noexcept { return __builtin_shufflevector(q, q, 2, 3, 1, 0); }
+[[gnu::always_inline]] inline float4 vec_zxy(const float4& q) noexcept { return __builtin_shufflevector(q, q, 3, 1, 2, 0); }
+/// Quaternion::rotate, v + t w + u × t with t = 2 (u × v), in lanes.
+inline Vec3<float> rotate_lanes(const Quaternion<float>& q, const Vec3<float>& v) noexcept {
+  const float4 vq = to_lanes(q), vv = to_lanes(v);
+  const float4 u_yzx = vec_yzx(vq), u_zxy = vec_zxy(vq), w = __builtin_shufflevector(vq, vq, 0, 0, 0, 0);
+  const float4 t = (u_yzx * zxy(vv) - u_zxy * yzx(vv)) * float4{2, 2, 2, 2};
+  return vec3_from_lanes((vv + t * w) + (u_yzx * zxy(t) - u_zxy * yzx(t)));
 }
 #endif
 }  // namespace detail
