@@ -18,22 +18,22 @@ using LD = long double;
 
 template <class T>
 Quaternion<LD> widen(const Quaternion<T>& q) {
-  return {q.w, q.x, q.y, q.z};
+  return q.template cast<LD>();
 }
 template <class T>
 DualQuaternion<LD> widen(const DualQuaternion<T>& q) {
   return {widen(q.real), widen(q.dual)};
 }
-Vec3<LD> widen(const Vec3<double>& v) { return {v.x, v.y, v.z}; }
+Vec3<LD> widen(const Vec3<double>& v) { return v.cast<LD>(); }
 
 /// Error of `got` against `ref` in ulps of double at the scale of the problem: the largest of 1,
 /// the result's components and `input_scale` (for sums that cancel, the inputs set the scale).
 double ulps(const std::vector<double>& got, const std::vector<LD>& ref, double input_scale = 1) {
-  LD scale = input_scale;
+  LD scale = static_cast<LD>(input_scale);
   for (LD r : ref) scale = std::max(scale, std::abs(r));
   LD worst = 0;
   for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(static_cast<LD>(got[i]) - ref[i]));
-  return static_cast<double>(worst / (scale * std::numeric_limits<double>::epsilon()));
+  return static_cast<double>(worst / (scale * static_cast<LD>(std::numeric_limits<double>::epsilon())));
 }
 std::vector<double> flat(const Quaternion<double>& q) { return {q.w, q.x, q.y, q.z}; }
 std::vector<LD> flat(const Quaternion<LD>& q) { return {q.w, q.x, q.y, q.z}; }
@@ -88,7 +88,7 @@ TEST(Accuracy, DoubleAgainstLongDoubleReference) {
       {{"matrix to quaternion", 0, 0, 4}, [](auto& r) {
          const auto m = r.template rotation<double>().to_matrix();
          Mat3<LD> wide;
-         for (std::size_t i = 0; i < 9; ++i) wide.m[i] = m.m[i];
+         for (std::size_t i = 0; i < 9; ++i) wide.m[i] = static_cast<LD>(m.m[i]);
          return ulps(flat(Quaternion<double>::from_matrix(m)), flat(Quaternion<LD>::from_matrix(wide)));
        }},
       {{"dual quaternion normalize", 0, 0, 4}, [](auto& r) {

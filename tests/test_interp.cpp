@@ -248,7 +248,7 @@ TEST(ScrewCalculus, SincDerivativeOverXIsAccurateEverywhere) {
   for (int i = 0; i <= 2000; ++i) {
     const double a = std::pow(10.0, -8.0 + 8.0 * i / 2000.0);  // 1e-8 … 1
     long double ref = 0, term_sign = -1, factorial = 6;  // (2n+1)! for n = 1
-    const long double a2 = static_cast<long double>(a) * a;
+    const long double a2 = static_cast<long double>(a) * static_cast<long double>(a);
     long double power = 1;
     for (int n = 1; n <= 16; ++n) {
       ref += term_sign * 2 * n * power / factorial;

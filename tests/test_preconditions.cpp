@@ -6,11 +6,15 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dq/anim/forward_kinematics.hpp"
+#include "dq/anim/pose_blocks.hpp"
+#include "dq/util/component_arrays.hpp"
 #include "dq/dq.hpp"
 
 namespace {
@@ -112,6 +116,49 @@ TEST(PreconditionsDefault, AReturningHandlerLeavesOutputsUntouchedAndResultsNaN)
   EXPECT_EQ(model[0], kB);
   EXPECT_EQ(calls, 2);
   set_precondition_handler(previous);
+}
+
+template <class T, std::size_t N>
+void check_component_arrays(std::size_t n) {
+  ComponentArrays<T, N> a(n);
+  ASSERT_EQ(a.size(), n);
+  const std::array<T*, N> starts = a.data();
+  for (std::size_t k = 0; k < N; ++k) {
+    SCOPED_TRACE(testing::Message() << "N " << N << " n " << n << " array " << k);
+    ASSERT_EQ(a[k].size(), n);
+    EXPECT_EQ(starts[k], a[k].data());
+    EXPECT_EQ(std::as_const(a).data()[k], a[k].data());
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a[k].data()) % 64, 0u);
+    for (const T& v : a[k]) ASSERT_EQ(v, T(0));
+    if (k > 0) {
+      EXPECT_GE(a[k].data(), a[k - 1].data() + n);  // past the end of the one before
+    }
+    for (std::size_t l = 0; l < k; ++l) {  // no two a multiple of 4 KiB apart
+      EXPECT_NE(static_cast<std::size_t>(a[k].data() - a[l].data()) * sizeof(T) % 4096, 0u) << "and array " << l;
+    }
+  }
+  for (std::size_t k = 0; k < N; ++k)  // every array writable over its whole length, values kept apart
+    for (std::size_t i = 0; i < n; ++i) a[k][i] = T(k * n + i);
+  for (std::size_t k = 0; k < N; ++k)
+    for (std::size_t i = 0; i < n; i += 1 + n / 7) ASSERT_EQ(a[k][i], T(k * n + i));
+  ComponentArrays<T, N> moved = std::move(a);
+  EXPECT_EQ(moved.size(), n);
+  EXPECT_EQ(moved[N - 1].data(), starts[N - 1]);
+  EXPECT_EQ(a.size(), 0u);  // NOLINT(bugprone-use-after-move): documented state
+  EXPECT_TRUE(a[0].empty());
+}
+
+TEST(ComponentArrays, AreAlignedZeroedApartAndSkewed) {
+  // Points (3 arrays), 3x4 matrices (12), dual quaternions (8), at sizes of whole 4 KiB pages and
+  // others, where plain vectors of 2^k floats would all lie a multiple of 4 KiB apart.
+  for (std::size_t n : {0u, 1u, 15u, 16u, 1000u, 1024u, 4096u}) {
+    check_component_arrays<float, 3>(n);
+    check_component_arrays<float, 12>(n);
+    check_component_arrays<double, 8>(n);
+  }
+  EXPECT_THROW((ComponentArrays<float, 3>(std::numeric_limits<std::size_t>::max() / 8)), std::length_error);
+  EXPECT_THROW((DualQuaternionSoAStorage<float>(std::size_t{1} << 40, std::size_t{1} << 30)), std::length_error);
+  EXPECT_THROW((DualQuaternionBlockStorage<float>(std::size_t{1} << 40, std::size_t{1} << 30)), std::length_error);
 }
 
 TEST(SoAStorage, IsAlignedPaddedAndSkewed) {

@@ -81,7 +81,7 @@ TYPED_TEST(QuaternionTyped, MatrixRoundTripIncludingHalfTurns) {
     EXPECT_LE(dq::test::rotation_diff(Quaternion<T>::from_matrix(q.to_matrix()), q), tol<T>(32));
   }
   // Half turns (trace −1) and the axes: every Shepperd branch.
-  for (const Vec3<T>& axis : {Vec3<T>{1, 0, 0}, Vec3<T>{0, 1, 0}, Vec3<T>{0, 0, 1}, Vec3<T>{1, 1, 1}, Vec3<T>{-1, 2, 0.5}}) {
+  for (const Vec3<T>& axis : {Vec3<T>{1, 0, 0}, Vec3<T>{0, 1, 0}, Vec3<T>{0, 0, 1}, Vec3<T>{1, 1, 1}, Vec3<T>{-1, 2, T(0.5)}}) {
     for (T angle : {T(0), pi_v<T>, pi_v<T> / 2, T(3)}) {
       const Quaternion<T> q = Quaternion<T>::from_axis_angle(axis, angle);
       EXPECT_LE(dq::test::rotation_diff(Quaternion<T>::from_matrix(q.to_matrix()), q), tol<T>(32));
@@ -223,10 +223,17 @@ TEST(Quaternion, CanonicalAndApproxEqual) {
   EXPECT_FALSE(q == -q);  // operator== is exact
 }
 
-/// The scalar formula, written out: each component's four products summed in pairs. Compiled
-/// without GCC's SLP vectorizer, which in GCC 12 fuses this very pattern into vfmaddsub when FMA
-/// is enabled, despite -ffp-contract=off (docs/design.md): the reference stays the formula.
-[[gnu::noinline, gnu::optimize("no-tree-slp-vectorize")]] Quaternion<float> hamilton_reference(const Quaternion<float>& a,
+// The references below are compiled without GCC's SLP vectorizer, which in GCC 12 fuses the
+// Hamilton pattern into vfmaddsub when FMA is enabled, despite -ffp-contract=off (docs/design.md):
+// a reference stays its formula. (Clang has neither the attribute nor the fusion.)
+#if defined(__clang__)
+#define DQKIT_TEST_NO_SLP
+#else
+#define DQKIT_TEST_NO_SLP gnu::optimize("no-tree-slp-vectorize")
+#endif
+
+/// The scalar formula, written out: each component's four products summed in pairs.
+[[gnu::noinline, DQKIT_TEST_NO_SLP]] Quaternion<float> hamilton_reference(const Quaternion<float>& a,
                                                                                              const Quaternion<float>& b) {
   return {(a.w * b.w - a.x * b.x) - (a.y * b.y + a.z * b.z), (a.w * b.x + a.x * b.w) + (a.y * b.z - a.z * b.y),
           (a.w * b.y - a.x * b.z) + (a.y * b.w + a.z * b.x), (a.w * b.z + a.x * b.y) - (a.y * b.x - a.z * b.w)};
@@ -250,13 +257,13 @@ TEST(Quaternion, FloatProductIsBitIdenticalToTheScalarFormula) {
 
 /// Quaternion::rotate and DualQuaternion::transform_point written out component by component, with
 /// the same operations in the same order (cross products a_y b_z − a_z b_y, ...).
-[[gnu::noinline, gnu::optimize("no-tree-slp-vectorize")]] Vec3<float> rotate_reference(const Quaternion<float>& q,
+[[gnu::noinline, DQKIT_TEST_NO_SLP]] Vec3<float> rotate_reference(const Quaternion<float>& q,
                                                                                        const Vec3<float>& v) {
   const float tx = (q.y * v.z - q.z * v.y) * 2, ty = (q.z * v.x - q.x * v.z) * 2, tz = (q.x * v.y - q.y * v.x) * 2;
   return {(v.x + tx * q.w) + (q.y * tz - q.z * ty), (v.y + ty * q.w) + (q.z * tx - q.x * tz),
           (v.z + tz * q.w) + (q.x * ty - q.y * tx)};
 }
-[[gnu::noinline, gnu::optimize("no-tree-slp-vectorize")]] Vec3<float> transform_point_reference(const DualQuaternion<float>& q,
+[[gnu::noinline, DQKIT_TEST_NO_SLP]] Vec3<float> transform_point_reference(const DualQuaternion<float>& q,
                                                                                                 const Vec3<float>& p) {
   const Quaternion<float>& r = q.real;
   const Quaternion<float>& d = q.dual;

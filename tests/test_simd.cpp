@@ -141,9 +141,10 @@ TEST(Simd, SlerpOverArraysHasNoFailureCaseAndFloatAccuracy) {
                   {out[0].data(), out[1].data(), out[2].data(), out[3].data()}, n);
       for (std::size_t i = 0; i < n; ++i) {
         const Quaternion<long double> want = slerp(a[i].cast<long double>(), b[i].cast<long double>(), static_cast<long double>(t));
-        const long double got[4] = {out[0][i], out[1][i], out[2][i], out[3][i]}, ref[4] = {want.w, want.x, want.y, want.z};
+        const Quaternion<long double> got = Quaternion<float>(out[0][i], out[1][i], out[2][i], out[3][i]).cast<long double>();
+        const long double g[4] = {got.w, got.x, got.y, got.z}, ref[4] = {want.w, want.x, want.y, want.z};
         for (int k = 0; k < 4; ++k)
-          ASSERT_LE(std::abs(got[k] - ref[k]), 16 * std::numeric_limits<float>::epsilon()) << "t " << t << " pair " << i << " component " << k;
+          ASSERT_LE(std::abs(g[k] - ref[k]), 16 * std::numeric_limits<float>::epsilon()) << "t " << t << " pair " << i << " component " << k;
       }
     });
   }
@@ -462,12 +463,13 @@ TEST(Simd, SclerpOverArraysHasNoFailureCaseAndFloatAccuracy) {
       double worst_real = 0, worst_dual = 0;
       for (std::size_t i = 0; i < n; ++i) {
         const DualQuaternion<float> got = out.get(i);
+        const DualQuaternion<long double> wide = got.cast<long double>();
         const DualQuaternion<long double> want = sclerp_reference(pairs.a[i], pairs.b[i], t);
         const long double scale = (1 + norm(pairs.a[i].cast<long double>().translation()) + norm(pairs.b[i].cast<long double>().translation())) / 2;
-        const long double g[8] = {got.real.w, got.real.x, got.real.y, got.real.z, got.dual.w, got.dual.x, got.dual.y, got.dual.z};
+        const long double g[8] = {wide.real.w, wide.real.x, wide.real.y, wide.real.z, wide.dual.w, wide.dual.x, wide.dual.y, wide.dual.z};
         const long double w[8] = {want.real.w, want.real.x, want.real.y, want.real.z, want.dual.w, want.dual.x, want.dual.y, want.dual.z};
         for (int k = 0; k < 8; ++k) {
-          const long double err = std::abs(g[k] - w[k]) / (k < 4 ? 1 : scale) / eps;
+          const long double err = std::abs(g[k] - w[k]) / (k < 4 ? 1 : scale) / static_cast<long double>(eps);
           (k < 4 ? worst_real : worst_dual) = std::max(k < 4 ? worst_real : worst_dual, static_cast<double>(err));
           ASSERT_LE(err, 8) << "t " << t << " pair " << i << " component " << k << ": " << got << " vs " << pairs.a[i] << ", " << pairs.b[i];
         }

@@ -144,7 +144,7 @@ TEST(ForwardKinematics, BatchJobEqualsPerPoseAndValidates) {
     for (std::size_t p = 0; p < poses; ++p)
       for (std::size_t j = 0; j < joints; ++j) {
         const DualQuaternion<float> m = model.get(j, p);
-        const Vec3<double> t{m.translation().x, m.translation().y, m.translation().z};
+        const Vec3<double> t = m.translation().cast<double>();
         EXPECT_LE(max_abs_diff(t, expected[p][j].translation()), 2e-6);
       }
   }

@@ -221,7 +221,7 @@ TEST(Skinning, DqsEqualsKavansFormulaThroughMatrices) {
     }
     const double n = std::sqrt(dot(blend.real, blend.real));
     const Mat4<double> m = to_mat4(DualQuaternion<double>{blend.real / n, blend.dual / n});
-    const Vec3<double> expected = transform_point(m, Vec3<double>{raw.positions[v].x, raw.positions[v].y, raw.positions[v].z});
+    const Vec3<double> expected = transform_point(m, raw.positions[v].cast<double>());
     EXPECT_LE(test::max_abs_diff(dqs.p(v), Vec3<float>{float(expected.x), float(expected.y), float(expected.z)}), position_tolerance(8)) << "vertex " << v;
   }
 }
@@ -297,7 +297,7 @@ TEST(Skinning, ScaledBindsLandWhereTheMeshTransformPutsThem) {
   for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor}) {
     const Output o = run(skin, bind, m);
     for (std::size_t v = 0; v < skin.vertex_count(); ++v) {
-      const Vec3<double> e = transform_point(a, Vec3<double>{raw.positions[v].x, raw.positions[v].y, raw.positions[v].z});
+      const Vec3<double> e = transform_point(a, raw.positions[v].cast<double>());
       ASSERT_LE(test::max_abs_diff(o.p(v), Vec3<float>{float(e.x), float(e.y), float(e.z)}), position_tolerance(8))
           << "method " << static_cast<int>(m) << " vertex " << v;
     }
@@ -404,7 +404,7 @@ TEST(SkinningTargets, AntipodalBonesBlendToTheSameTransform) {
       const Output o = run(skin, pose, m);
       for (std::size_t v = 0; v < skin.vertex_count(); ++v) {
         const DualQuaternion<double>& q = pose[v % 2 ? 0 : 2];
-        const Vec3<double> e = q.transform_point(Vec3<double>{raw.positions[v].x, raw.positions[v].y, raw.positions[v].z});
+        const Vec3<double> e = q.transform_point(raw.positions[v].cast<double>());
         ASSERT_LE(test::max_abs_diff(o.p(v), Vec3<float>{float(e.x), float(e.y), float(e.z)}), position_tolerance(8)) << "vertex " << v;
       }
     }
@@ -482,7 +482,7 @@ TEST(SkinningFiles, SimpleSkinLbsEqualsTheGltfSpecification) {
         if (a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
           float f;
           std::memcpy(&f, base + i * stride + c * 4, 4);
-          out[i * components + c] = f;
+          out[i * components + c] = static_cast<double>(f);
         } else {
           std::uint16_t u;
           std::memcpy(&u, base + i * stride + c * 2, 2);

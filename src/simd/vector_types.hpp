@@ -1,8 +1,9 @@
 // The compiler's generic vector types of 4, 8 and 16 floats (and of 32-bit integers, for bit
 // operations) used by the kernels per instruction set: src/simd/batch.cpp and
 // src/skin/skinning.cpp. Private to dqkit. They pass by value only inside target functions that
-// inline everything (`flatten`): GCC's -Wpsabi note on the helpers' signatures does not apply, and
-// is silenced for the files that include this header.
+// inline everything (`flatten`, and every helper always_inline, which clang needs): GCC's -Wpsabi
+// note on the helpers' signatures does not apply, and is silenced for the files that include this
+// header.
 #pragma once
 
 #include <cstdint>

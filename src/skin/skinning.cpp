@@ -172,11 +172,11 @@ struct Streams {
 /// One vertex per call: the scalar path.
 struct ScalarLanes {
   using V = float;
-  static V load(const float* p) { return *p; }
-  static void store(float* p, V x) { *p = x; }
+  [[gnu::always_inline]] static V load(const float* p) { return *p; }
+  [[gnu::always_inline]] static void store(float* p, V x) { *p = x; }
   /// out[c] = table[stride * bones[0] + offset + c] for c < C.
   template <int C>
-  static void rows(const float* table, std::size_t stride, const std::uint32_t* bones, std::size_t offset, V* out) {
+  [[gnu::always_inline]] static void rows(const float* table, std::size_t stride, const std::uint32_t* bones, std::size_t offset, V* out) {
     const float* e = table + stride * bones[0] + offset;
     for (int c = 0; c < C; ++c) out[c] = e[c];
   }
@@ -193,9 +193,9 @@ template <SkinningMethod M, std::size_t K, class P>
   V dq[8];    // blended dual quaternion (DQS; CoR uses its real part)
   V lin[12] = {};  // blended scale/shear (two-phase; set when s.scaled)
   // Σ_k w_k · table[bone_k] over the slots, for a 3x4 matrix table (rows 0-1, then row 2).
-  auto blend_matrices = [&](const float* table, V* sum) {
+  auto blend_matrices = [&](const float* table, V* sum) __attribute__((always_inline)) {
     V m[12];
-    auto load_slot = [&](std::size_t k) {
+    auto load_slot = [&](std::size_t k) __attribute__((always_inline)) {
       P::template rows<8>(table, 12, s.bone + k * n + v, 0, m);
       P::template rows<4>(table, 12, s.bone + k * n + v, 8, m + 8);
       return P::load(s.weight + k * n + v);
@@ -223,8 +223,8 @@ template <SkinningMethod M, std::size_t K, class P>
   }
   if constexpr (M != SkinningMethod::dqs) blend_matrices(s.mats, mat);
   if (s.scaled) blend_matrices(s.scales, lin);
-  auto write = [v](V3<V> x, float* ox, float* oy, float* oz) { P::store(ox + v, x.x), P::store(oy + v, x.y), P::store(oz + v, x.z); };
-  auto read = [v](const float* x, const float* y, const float* z) { return V3<V>{P::load(x + v), P::load(y + v), P::load(z + v)}; };
+  auto write = [v](V3<V> x, float* ox, float* oy, float* oz) __attribute__((always_inline)) { P::store(ox + v, x.x), P::store(oy + v, x.y), P::store(oz + v, x.z); };
+  auto read = [v](const float* x, const float* y, const float* z) __attribute__((always_inline)) { return V3<V>{P::load(x + v), P::load(y + v), P::load(z + v)}; };
   if constexpr (M == SkinningMethod::lbs) {
     write(affine(mat, p), s.opx, s.opy, s.opz);
     if (s.normals) write(unit(cofactor(mat, read(s.nx, s.ny, s.nz))), s.onx, s.ony, s.onz);
@@ -236,7 +236,7 @@ template <SkinningMethod M, std::size_t K, class P>
     const V w = dq[0];
     const V3<V> u{dq[1], dq[2], dq[3]};
     const V k = 2.0f / (w * w + u.x * u.x + u.y * u.y + u.z * u.z);
-    auto rotate_blend = [&](V3<V> x) {
+    auto rotate_blend = [&](V3<V> x) __attribute__((always_inline)) {
       const V3<V> c = cross3(u, x);
       return add(x, scale(add(scale(c, w), cross3(u, c)), k));
     };
@@ -284,7 +284,10 @@ void skin_scalar_slots(const Streams& s, std::size_t b, std::size_t e) {
 // ---- vector lanes, one instruction set per function ---------------------------------------------
 // As in src/simd/batch.cpp: each target's kernel is a function with GCC's `target` attribute and
 // `flatten`, so the generic code above, instantiated on GCC's vector types, is inlined and
-// compiled for that target (never a per-file -m flag). Palette entries are loaded per lane (one
+// compiled for that target (never a per-file -m flag). Every helper it reaches, lambdas included,
+// is always_inline as well: clang 14's flatten inlines only the calls written in the function
+// itself, and a helper left out of line is compiled for baseline x86-64, where a wide vector it
+// returns crosses an ABI boundary (wrong skinning with scaled binds, found by the clang build). Palette entries are loaded per lane (one
 // vector load of a bone's record) and transposed to component vectors with shuffles: no gathers.
 
 // Shuffles within each 128-bit block (unpcklps, unpckhps, movlhps, movhlps per block).
@@ -317,13 +320,13 @@ template <class F>
 template <int N>
 struct VectorLanes {
   using V = typename VectorOf<N>::type;
-  static V load(const float* p) { return load_as<V>(p); }
-  static void store(float* p, V x) { std::memcpy(p, &x, sizeof x); }
+  [[gnu::always_inline]] static V load(const float* p) { return load_as<V>(p); }
+  [[gnu::always_inline]] static void store(float* p, V x) { std::memcpy(p, &x, sizeof x); }
   /// out[c] lane j = table[stride * bones[j] + offset + c] for c < C (C = 4 or 8): one load of C
   /// floats per lane, then a transpose.
   template <int C>
-  static void rows(const float* table, std::size_t stride, const std::uint32_t* bones, std::size_t offset, V* out) {
-    auto entry = [&](int j) { return table + stride * bones[j] + offset; };
+  [[gnu::always_inline]] static void rows(const float* table, std::size_t stride, const std::uint32_t* bones, std::size_t offset, V* out) {
+    auto entry = [&](int j) __attribute__((always_inline)) { return table + stride * bones[j] + offset; };
     if constexpr (C == 4 || N == 4) {
       // Rows of four: lane j's record in block j / 4 of row j % 4.
       for (int half = 0; half < C / 4; ++half) {

@@ -6,11 +6,10 @@
 
 #include <algorithm>
 #include <array>
-#include <limits>
-#include <memory>
-#include <new>
 #include <cstddef>
+#include <limits>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -18,6 +17,7 @@
 #include "dq/anim/skeleton.hpp"
 #include "dq/core/matrix.hpp"
 #include "dq/util/assert.hpp"
+#include "dq/util/component_arrays.hpp"
 #include "dq/util/expected.hpp"
 
 namespace dq {
@@ -83,43 +83,34 @@ struct DualQuaternionSoA {
   }
 };
 
-/// Owning storage for DualQuaternionSoA (allocates once, at construction). Laid out for SIMD:
-/// the stride (poses per joint row) is rounded up to whole 64-byte cache lines, every component
-/// array starts on a cache line, and consecutive arrays are skewed by one more cache line. Without
-/// the skew, arrays exactly joints × poses floats apart map to the same cache sets whenever that
-/// distance is a multiple of 4 KiB, and the 24 streams of a product evict each other.
+/// Owning storage for DualQuaternionSoA (allocates once, at construction, zeroed), laid out for
+/// SIMD: the stride (poses per joint row) is rounded up to whole 64-byte cache lines, and the eight
+/// component arrays are ComponentArrays (aligned, skewed so that the 24 streams of a product do not
+/// evict each other). Throws std::length_error when joints × stride values cannot be addressed.
 template <class T>
 class DualQuaternionSoAStorage {
  public:
-  static constexpr std::size_t alignment = 64;
-  static constexpr std::size_t line = alignment / sizeof(T);  ///< elements per cache line
-
-  DualQuaternionSoAStorage(std::size_t joints, std::size_t poses)
-      : stride_(round_up(poses)), component_(round_up(joints * stride_) + line), data_(allocate(8 * component_)) {}
+  DualQuaternionSoAStorage(std::size_t joints, std::size_t poses) : stride_(round_up(poses)), arrays_(values(joints, stride_)) {}
 
   DualQuaternionSoA<T> view() {
-    const std::size_t n = joints_size();
-    std::span<T> all(data_.get(), 8 * component_);
-    auto c = [&](std::size_t k) { return all.subspan(k * component_, n); };
-    return {c(0), c(1), c(2), c(3), c(4), c(5), c(6), c(7), stride_};
+    return {arrays_[0], arrays_[1], arrays_[2], arrays_[3], arrays_[4], arrays_[5], arrays_[6], arrays_[7], stride_};
   }
   std::size_t stride() const noexcept { return stride_; }
 
  private:
-  struct Free {
-    void operator()(T* p) const noexcept { ::operator delete[](p, std::align_val_t{alignment}); }
-  };
-  static std::size_t round_up(std::size_t n) { return (n + line - 1) / line * line; }
-  static std::unique_ptr<T[], Free> allocate(std::size_t n) {
-    T* p = static_cast<T*>(::operator new[](n * sizeof(T), std::align_val_t{alignment}));
-    std::uninitialized_value_construct_n(p, n);
-    return std::unique_ptr<T[], Free>(p);
+  static constexpr std::size_t line = ComponentArrays<T, 8>::line;
+  static std::size_t round_up(std::size_t n) {
+    if (n > std::numeric_limits<std::size_t>::max() - line) throw std::length_error("dq::DualQuaternionSoAStorage: too many poses");
+    return (n + line - 1) / line * line;
   }
-  std::size_t joints_size() const noexcept { return component_ - line; }
+  static std::size_t values(std::size_t joints, std::size_t stride) {
+    if (stride != 0 && joints > std::numeric_limits<std::size_t>::max() / stride)
+      throw std::length_error("dq::DualQuaternionSoAStorage: too many joints × poses");
+    return joints * stride;
+  }
 
   std::size_t stride_;
-  std::size_t component_;  ///< elements from one component array to the next
-  std::unique_ptr<T[], Free> data_;
+  ComponentArrays<T, 8> arrays_;
 };
 
 namespace detail {

@@ -9,14 +9,14 @@
 #include <algorithm>
 #include <cstddef>
 #include <limits>
-#include <memory>
-#include <new>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <utility>
 
 #include "dq/anim/forward_kinematics.hpp"
+#include "dq/util/component_arrays.hpp"
 
 namespace dq {
 
@@ -77,37 +77,34 @@ struct DualQuaternionBlocks {
 template <class T>
 class DualQuaternionBlockStorage {
  public:
-  static constexpr std::size_t alignment = 64;
+  static constexpr std::size_t alignment = ComponentArrays<T, 1>::alignment;
 
   DualQuaternionBlockStorage(std::size_t joints, std::size_t poses)
       : joints_(joints),
         blocks_((poses + DualQuaternionBlocks<T>::poses_per_block - 1) / DualQuaternionBlocks<T>::poses_per_block),
-        size_(joints_ * blocks_ * DualQuaternionBlocks<T>::joint_values),
-        data_(allocate(size_)) {}
+        data_(values(joints_, blocks_)) {}
 
-  DualQuaternionBlocks<T> view() noexcept { return {std::span<T>(data_.get(), size_), joints_, blocks_}; }
-  DualQuaternionBlocks<const T> view() const noexcept { return {std::span<const T>(data_.get(), size_), joints_, blocks_}; }
+  DualQuaternionBlocks<T> view() noexcept { return {data_[0], joints_, blocks_}; }
+  DualQuaternionBlocks<const T> view() const noexcept { return {data_[0], joints_, blocks_}; }
   /// A moved-from storage holds nothing (its views are empty).
   DualQuaternionBlockStorage(DualQuaternionBlockStorage&& o) noexcept
-      : joints_(std::exchange(o.joints_, 0)), blocks_(std::exchange(o.blocks_, 0)), size_(std::exchange(o.size_, 0)), data_(std::move(o.data_)) {}
+      : joints_(std::exchange(o.joints_, 0)), blocks_(std::exchange(o.blocks_, 0)), data_(std::move(o.data_)) {}
   DualQuaternionBlockStorage& operator=(DualQuaternionBlockStorage&& o) noexcept {
-    joints_ = std::exchange(o.joints_, 0), blocks_ = std::exchange(o.blocks_, 0), size_ = std::exchange(o.size_, 0);
+    joints_ = std::exchange(o.joints_, 0), blocks_ = std::exchange(o.blocks_, 0);
     data_ = std::move(o.data_);
     return *this;
   }
 
  private:
-  struct Free {
-    void operator()(T* p) const noexcept { ::operator delete[](p, std::align_val_t{alignment}); }
-  };
-  static std::unique_ptr<T[], Free> allocate(std::size_t n) {
-    T* p = static_cast<T*>(::operator new[](std::max<std::size_t>(n, 1) * sizeof(T), std::align_val_t{alignment}));
-    std::uninitialized_value_construct_n(p, n);
-    return std::unique_ptr<T[], Free>(p);
+  static std::size_t values(std::size_t joints, std::size_t blocks) {
+    constexpr std::size_t per_joint_block = DualQuaternionBlocks<T>::joint_values;
+    if (blocks != 0 && joints > std::numeric_limits<std::size_t>::max() / per_joint_block / blocks)
+      throw std::length_error("dq::DualQuaternionBlockStorage: too many joints × poses");
+    return joints * blocks * per_joint_block;
   }
 
-  std::size_t joints_, blocks_, size_;
-  std::unique_ptr<T[], Free> data_;
+  std::size_t joints_, blocks_;
+  ComponentArrays<T, 1> data_;  // one array, 64-byte aligned, zeroed
 };
 
 /// Forward kinematics of the poses in blocks [first_block, first_block + block_count), in the
