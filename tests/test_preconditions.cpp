@@ -146,6 +146,20 @@ void check_component_arrays(std::size_t n) {
   EXPECT_EQ(moved[N - 1].data(), starts[N - 1]);
   EXPECT_EQ(a.size(), 0u);  // NOLINT(bugprone-use-after-move): documented state
   EXPECT_TRUE(a[0].empty());
+  ComponentArrays<T, N> assigned(3);
+  assigned = std::move(moved);
+  EXPECT_EQ(assigned.size(), n);
+  EXPECT_EQ(assigned[0].data(), starts[0]);
+  EXPECT_EQ(moved.size(), 0u);  // NOLINT(bugprone-use-after-move): documented state
+}
+
+/// The largest size is addressable with its padding, and one more is refused.
+template <class T, std::size_t N>
+void check_size_limit() {
+  using A = ComponentArrays<T, N>;
+  std::size_t bytes = 0;
+  EXPECT_FALSE(__builtin_mul_overflow(N * sizeof(T), A::max_size() + 3 * A::line, &bytes));
+  EXPECT_THROW(A(A::max_size() + 1), std::length_error);
 }
 
 TEST(ComponentArrays, AreAlignedZeroedApartAndSkewed) {
@@ -156,9 +170,16 @@ TEST(ComponentArrays, AreAlignedZeroedApartAndSkewed) {
     check_component_arrays<float, 12>(n);
     check_component_arrays<double, 8>(n);
   }
-  EXPECT_THROW((ComponentArrays<float, 3>(std::numeric_limits<std::size_t>::max() / 8)), std::length_error);
+  // 64 arrays (the most the odd spacing keeps apart) at every padded size from 0 to 4 KiB + lines.
+  for (std::size_t n = 0; n <= 1100; n += 7) check_component_arrays<float, 64>(n);
+  for (std::size_t n = 0; n <= 600; n += 5) check_component_arrays<double, 64>(n);
+  check_size_limit<float, 3>();
+  check_size_limit<float, 12>();
+  check_size_limit<double, 8>();
+  check_size_limit<float, 1>();
   EXPECT_THROW((DualQuaternionSoAStorage<float>(std::size_t{1} << 40, std::size_t{1} << 30)), std::length_error);
   EXPECT_THROW((DualQuaternionBlockStorage<float>(std::size_t{1} << 40, std::size_t{1} << 30)), std::length_error);
+  EXPECT_THROW((DualQuaternionBlockStorage<float>(1, std::numeric_limits<std::size_t>::max())), std::length_error);
 }
 
 TEST(SoAStorage, IsAlignedPaddedAndSkewed) {

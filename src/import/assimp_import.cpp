@@ -26,8 +26,8 @@ struct Rigid {
 /// Whether the upper 3x3 block is R · diag(s) with R a rotation and every s in [1e-12, 1e12]
 /// (a mirror, a shear or a zero column would otherwise become an arbitrary rotation).
 bool is_rotation_and_scale(const aiMatrix4x4& m) {
-  const Vec3<double> c[3] = {Vec3<float>{m.a1, m.b1, m.c1}.cast<double>(),  // columns
-                            Vec3<float>{m.a2, m.b2, m.c2}.cast<double>(), Vec3<float>{m.a3, m.b3, m.c3}.cast<double>()};
+  const Vec3<double> c[3] = {Vec3<ai_real>{m.a1, m.b1, m.c1}.cast<double>(),  // columns
+                            Vec3<ai_real>{m.a2, m.b2, m.c2}.cast<double>(), Vec3<ai_real>{m.a3, m.b3, m.c3}.cast<double>()};
   double len[3];
   for (int i = 0; i < 3; ++i) {
     len[i] = std::sqrt(c[i][0] * c[i][0] + c[i][1] * c[i][1] + c[i][2] * c[i][2]);
@@ -47,8 +47,8 @@ Rigid decompose(const aiMatrix4x4& m) {
   m.Decompose(s, r, t);
   Rigid out;
   out.degenerate = !is_rotation_and_scale(m);
-  out.rotation = Quaternion<float>(r.w, r.x, r.y, r.z).cast<double>().normalized();
-  out.translation = Vec3<float>{t.x, t.y, t.z}.cast<double>();
+  out.rotation = Quaternion<ai_real>(r.w, r.x, r.y, r.z).cast<double>().normalized();
+  out.translation = Vec3<ai_real>{t.x, t.y, t.z}.cast<double>();
   const double sx = std::abs(static_cast<double>(s.x)), sy = std::abs(static_cast<double>(s.y)), sz = std::abs(static_cast<double>(s.z));
   out.scale = std::cbrt(sx * sy * sz);
   out.non_uniform = std::abs(sx - sy) > 1e-4 * out.scale || std::abs(sx - sz) > 1e-4 * out.scale;
@@ -282,7 +282,7 @@ class SceneBuilder {
                                              aiQuaternion::Interpolate(q, x, y, static_cast<float>(u));
                                              return q;
                                            });
-        const Quaternion<double> q = Quaternion<float>(r.w, r.x, r.y, r.z).cast<double>().normalized();
+        const Quaternion<double> q = Quaternion<ai_real>(r.w, r.x, r.y, r.z).cast<double>().normalized();
         const Vec3<double> tr{double(p.x) * parent_scale, double(p.y) * parent_scale, double(p.z) * parent_scale};
         if (!std::isfinite(tr.x + tr.y + tr.z + q.w + q.x + q.y + q.z))
           return Error{source_ + ": animation '" + out.name + "' has non-finite keys for '" + ch.mNodeName.C_Str() + "'"};

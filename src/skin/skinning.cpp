@@ -147,9 +147,9 @@ struct Streams {
   /// twenty streams (a vertex's coordinates, normals and slots, and the outputs) the hardware
   /// prefetchers fall behind, and measured at 1M vertices the kernels are then well below the
   /// memory's bandwidth (docs/skinning.md).
-  void prefetch(std::size_t v) const {
-    auto read = [v](const float* p) { __builtin_prefetch(p + v, 0, 3); };
-    auto write = [v](float* p) { __builtin_prefetch(p + v, 1, 3); };
+  [[gnu::always_inline]] void prefetch(std::size_t v) const {
+    auto read = [v](const float* p) __attribute__((always_inline)) { __builtin_prefetch(p + v, 0, 3); };
+    auto write = [v](float* p) __attribute__((always_inline)) { __builtin_prefetch(p + v, 1, 3); };
     for (const float* p : {px, py, pz}) read(p);
     for (float* p : {opx, opy, opz}) write(p);
     if (normals) {

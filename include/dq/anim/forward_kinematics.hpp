@@ -90,6 +90,9 @@ struct DualQuaternionSoA {
 template <class T>
 class DualQuaternionSoAStorage {
  public:
+  static constexpr std::size_t alignment = ComponentArrays<T, 8>::alignment;
+  static constexpr std::size_t line = ComponentArrays<T, 8>::line;  ///< elements per cache line
+
   DualQuaternionSoAStorage(std::size_t joints, std::size_t poses) : stride_(round_up(poses)), arrays_(values(joints, stride_)) {}
 
   DualQuaternionSoA<T> view() {
@@ -98,7 +101,6 @@ class DualQuaternionSoAStorage {
   std::size_t stride() const noexcept { return stride_; }
 
  private:
-  static constexpr std::size_t line = ComponentArrays<T, 8>::line;
   static std::size_t round_up(std::size_t n) {
     if (n > std::numeric_limits<std::size_t>::max() - line) throw std::length_error("dq::DualQuaternionSoAStorage: too many poses");
     return (n + line - 1) / line * line;

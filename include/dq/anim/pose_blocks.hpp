@@ -81,7 +81,7 @@ class DualQuaternionBlockStorage {
 
   DualQuaternionBlockStorage(std::size_t joints, std::size_t poses)
       : joints_(joints),
-        blocks_((poses + DualQuaternionBlocks<T>::poses_per_block - 1) / DualQuaternionBlocks<T>::poses_per_block),
+        blocks_(poses / DualQuaternionBlocks<T>::poses_per_block + (poses % DualQuaternionBlocks<T>::poses_per_block != 0)),
         data_(values(joints_, blocks_)) {}
 
   DualQuaternionBlocks<T> view() noexcept { return {data_[0], joints_, blocks_}; }

@@ -207,12 +207,10 @@ struct DualQuaternion {
     if constexpr (std::is_same_v<T, float>) {
       if (!std::is_constant_evaluated()) {
         using detail::float4, detail::yzx, detail::zxy;
-        const float4 qr = detail::to_lanes(real), qd = detail::to_lanes(dual), vp = detail::to_lanes(p);
-        const float4 r_yzx = detail::vec_yzx(qr), r_zxy = detail::vec_zxy(qr);
-        const float4 w = __builtin_shufflevector(qr, qr, 0, 0, 0, 0), w_d = __builtin_shufflevector(qd, qd, 0, 0, 0, 0);
-        const float4 d = detail::vec_xyz(qd);
-        const float4 s = ((r_yzx * zxy(vp) - r_zxy * yzx(vp)) + vp * w) + d;
-        const float4 u = ((r_yzx * zxy(s) - r_zxy * yzx(s)) + d * w) - detail::vec_xyz(qr) * w_d;
+        const detail::QuaternionParts r = detail::parts(detail::to_lanes(real)), d = detail::parts(detail::to_lanes(dual));
+        const float4 vp = detail::to_lanes(p);
+        const float4 s = ((r.yzx * zxy(vp) - r.zxy * yzx(vp)) + vp * r.w) + d.xyz;
+        const float4 u = ((r.yzx * zxy(s) - r.zxy * yzx(s)) + d.xyz * r.w) - r.xyz * d.w;
         return detail::vec3_from_lanes(vp + u * float4{2, 2, 2, 2});
       }
     }

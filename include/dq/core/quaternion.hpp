@@ -353,6 +353,8 @@ inline Quaternion<float> hamilton_lanes(const Quaternion<float>& a, const Quater
 // Three-vectors in lanes 0-2 (x, y, z; lane 3 is carried along and dropped), for the rotation
 // and the point transform: a cross product a × b is a_yzx b_zxy − a_zxy b_yzx, lane by lane the
 // scalar cross's products and difference, so the results are the scalar formulas' bit for bit.
+// Lane 3 holds +0 in every operand, so it computes only 0 · 0 and 0 ± 0: it raises no
+// floating-point exception that the scalar formula does not (w · 0 there could, for w = ∞).
 static_assert(sizeof(Vec3<float>) == 3 * sizeof(float) && std::is_trivially_copyable_v<Vec3<float>>,
               "to_lanes and vec3_from_lanes copy x, y, z as three floats");
 [[gnu::always_inline]] inline float4 to_lanes(const Vec3<float>& v) noexcept {
@@ -370,16 +372,25 @@ static_assert(sizeof(Vec3<float>) == 3 * sizeof(float) && std::is_trivially_copy
 }
 [[gnu::always_inline]] inline float4 yzx(const float4& v) noexcept { return __builtin_shufflevector(v, v, 1, 2, 0, 3); }
 [[gnu::always_inline]] inline float4 zxy(const float4& v) noexcept { return __builtin_shufflevector(v, v, 2, 0, 1, 3); }
-/// The vector part (x, y, z) of a quaternion's lanes (w, x, y, z), and its rotations yzx, zxy.
-[[gnu::always_inline]] inline float4 vec_xyz(const float4& q) noexcept { return __builtin_shufflevector(q, q, 1, 2, 3, 0); }
-[[gnu::always_inline]] inline float4 vec_yzx(const float4& q) noexcept { return __builtin_shufflevector(q, q, 2, 3, 1, 0); }
-[[gnu::always_inline]] inline float4 vec_zxy(const float4& q) noexcept { return __builtin_shufflevector(q, q, 3, 1, 2, 0); }
+/// A quaternion's parts, from its lanes (w, x, y, z): the vector part as (x, y, z, 0) and rotated,
+/// (y, z, x, 0) and (z, x, y, 0), and the scalar part as (w, w, w, 0). The zeros come from bitwise
+/// masks (no floating-point operation).
+struct QuaternionParts {
+  float4 xyz, yzx, zxy, w;
+};
+[[gnu::always_inline]] inline QuaternionParts parts(const float4& q) noexcept {
+  using int4 = std::int32_t __attribute__((vector_size(16)));
+  const int4 bits = __builtin_bit_cast(int4, q);
+  const float4 v = __builtin_bit_cast(float4, bits & int4{0, -1, -1, -1}), s = __builtin_bit_cast(float4, bits & int4{-1, 0, 0, 0});
+  return {__builtin_shufflevector(v, v, 1, 2, 3, 0), __builtin_shufflevector(v, v, 2, 3, 1, 0),
+          __builtin_shufflevector(v, v, 3, 1, 2, 0), __builtin_shufflevector(s, s, 0, 0, 0, 1)};
+}
 /// Quaternion::rotate, v + t w + u × t with t = 2 (u × v), in lanes.
 inline Vec3<float> rotate_lanes(const Quaternion<float>& q, const Vec3<float>& v) noexcept {
-  const float4 vq = to_lanes(q), vv = to_lanes(v);
-  const float4 u_yzx = vec_yzx(vq), u_zxy = vec_zxy(vq), w = __builtin_shufflevector(vq, vq, 0, 0, 0, 0);
-  const float4 t = (u_yzx * zxy(vv) - u_zxy * yzx(vv)) * float4{2, 2, 2, 2};
-  return vec3_from_lanes((vv + t * w) + (u_yzx * zxy(t) - u_zxy * yzx(t)));
+  const QuaternionParts u = parts(to_lanes(q));
+  const float4 vv = to_lanes(v);
+  const float4 t = (u.yzx * zxy(vv) - u.zxy * yzx(vv)) * float4{2, 2, 2, 2};
+  return vec3_from_lanes((vv + t * u.w) + (u.yzx * zxy(t) - u.zxy * yzx(t)));
 }
 #endif
 }  // namespace detail

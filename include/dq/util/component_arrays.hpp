@@ -10,6 +10,7 @@
 #include <new>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 namespace dq {
@@ -26,6 +27,7 @@ class ComponentArrays {
   static constexpr std::size_t alignment = 64;
   static constexpr std::size_t line = alignment / sizeof(T);  ///< values per cache line
   static_assert(N > 0 && alignment % sizeof(T) == 0);
+  static_assert(std::is_arithmetic_v<T>, "ComponentArrays holds numbers (no constructors or destructors run)");
 
   ComponentArrays() = default;
   /// Throws std::length_error when N arrays of `size` values cannot be addressed.
@@ -42,6 +44,8 @@ class ComponentArrays {
 
   /// Values per array.
   std::size_t size() const noexcept { return size_; }
+  /// The largest size whose N padded arrays can be addressed (larger ones throw).
+  static constexpr std::size_t max_size() noexcept { return std::numeric_limits<std::size_t>::max() / sizeof(T) / N - 3 * line; }
   /// Array k (k < N).
   std::span<T> operator[](std::size_t k) noexcept { return {data_.get() + k * distance_, size_}; }
   std::span<const T> operator[](std::size_t k) const noexcept { return {data_.get() + k * distance_, size_}; }
@@ -54,7 +58,7 @@ class ComponentArrays {
     void operator()(T* p) const noexcept { ::operator delete[](p, std::align_val_t{alignment}); }
   };
   static std::size_t distance_for(std::size_t size) {
-    if (size > std::numeric_limits<std::size_t>::max() / sizeof(T) / N - 3 * line)
+    if (size > max_size())  // the padding adds at most 3 lines
       throw std::length_error("dq::ComponentArrays: too many values to address");
     const std::size_t lines = (size + line - 1) / line + 1;
     return (lines % 2 == 1 ? lines : lines + 1) * line;
