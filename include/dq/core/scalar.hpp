@@ -24,7 +24,7 @@
 /// the lanes of one vector: with vector extensions, unless the build targets AVX2. There GCC
 /// vectorizes the scalar formula of a loop over points eight elements at a time, faster than one
 /// point per vector (bench_core's PointDualQuaternion: 1.5 against 2.6 ns per point); in a
-/// baseline x86-64 build it does not (4.4 ns, against 2.5 with lanes). Either way the results are
+/// baseline x86-64 build it does not (4.4 ns, against 2.5–3.3 with lanes). Either way the results are
 /// bit-identical, so translation units built with and without AVX2 agree (docs/design.md, on the
 /// one-definition rule); define it to 0 or 1 to have one body everywhere.
 #if !defined(DQKIT_VEC3_LANES)
