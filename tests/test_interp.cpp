@@ -107,9 +107,6 @@ TEST(Slerp, ConstantAngularSpeedAndExactEndpoints) {
   }
 }
 
-// slerp takes inputs that are unit to rounding (|q|² within 4 ε of 1) as they are and normalizes
-// the others: either way the result is the slerp of the normalized inputs, here against long
-// double, for inputs exactly unit in long double, rounded to float, and scaled off unit.
 TEST(Slerp, UnitToRoundingKeepsInputsWithin4EpsilonAndNormalizesTheOthers) {
   const float eps = std::numeric_limits<float>::epsilon();
   for (float w : {1.0f, 1.0f + eps, 1.0f - eps / 2}) {  // |q|² − 1 ≈ 0, 2ε, −ε: kept as they are
@@ -123,6 +120,9 @@ TEST(Slerp, UnitToRoundingKeepsInputsWithin4EpsilonAndNormalizesTheOthers) {
   }
 }
 
+// slerp takes inputs that are unit to rounding (|q|² within 4 ε of 1) as they are and normalizes
+// the others: either way the result is the slerp of the normalized inputs, here against long
+// double, for inputs exactly unit in long double, rounded to float, and scaled off unit.
 TEST(Slerp, InputsUnitToRoundingOrDriftedGiveTheSameRotation) {
   Random rng(204);
   for (int n = 0; n < 2000; ++n) {

@@ -287,8 +287,9 @@ void skin_scalar_slots(const Streams& s, std::size_t b, std::size_t e) {
 // compiled for that target (never a per-file -m flag). Every helper it reaches, lambdas included,
 // is always_inline as well: clang 14's flatten inlines only the calls written in the function
 // itself, and a helper left out of line is compiled for baseline x86-64, where a wide vector it
-// returns crosses an ABI boundary (wrong skinning with scaled binds, found by the clang build). Palette entries are loaded per lane (one
-// vector load of a bone's record) and transposed to component vectors with shuffles: no gathers.
+// returns crosses an ABI boundary (wrong skinning with scaled binds, found by the clang build).
+// Palette entries are loaded per lane (one vector load of a bone's record) and transposed to
+// component vectors with shuffles: no gathers.
 
 // Shuffles within each 128-bit block (unpcklps, unpckhps, movlhps, movhlps per block).
 #define DQKIT_IN_BLOCKS(name, i0, i1, i2, i3)                                                                              \

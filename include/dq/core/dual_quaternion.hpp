@@ -206,11 +206,11 @@ struct DualQuaternion {
 #if DQKIT_VEC3_LANES
     if constexpr (std::is_same_v<T, float>) {
       if (!std::is_constant_evaluated()) {
-        using detail::float4, detail::yzx, detail::zxy;
+        using detail::float4, detail::cross_lanes;
         const detail::QuaternionParts r = detail::parts(detail::to_lanes(real)), d = detail::parts(detail::to_lanes(dual));
         const float4 vp = detail::to_lanes(p);
-        const float4 s = ((r.yzx * zxy(vp) - r.zxy * yzx(vp)) + vp * r.w) + d.xyz;
-        const float4 u = ((r.yzx * zxy(s) - r.zxy * yzx(s)) + d.xyz * r.w) - r.xyz * d.w;
+        const float4 s = (cross_lanes(r, vp) + vp * r.w) + d.xyz;
+        const float4 u = (cross_lanes(r, s) + d.xyz * r.w) - r.xyz * d.w;
         return detail::vec3_from_lanes(vp + u * float4{2, 2, 2, 2});
       }
     }

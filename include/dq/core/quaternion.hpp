@@ -370,8 +370,6 @@ static_assert(sizeof(Vec3<float>) == 3 * sizeof(float) && std::is_trivially_copy
   std::memcpy(static_cast<void*>(&v), &r, sizeof v);
   return v;
 }
-[[gnu::always_inline]] inline float4 yzx(const float4& v) noexcept { return __builtin_shufflevector(v, v, 1, 2, 0, 3); }
-[[gnu::always_inline]] inline float4 zxy(const float4& v) noexcept { return __builtin_shufflevector(v, v, 2, 0, 1, 3); }
 /// A quaternion's parts, from its lanes (w, x, y, z): the vector part as (x, y, z, 0) and rotated,
 /// (y, z, x, 0) and (z, x, y, 0), and the scalar part as (w, w, w, 0). The zeros come from bitwise
 /// masks (no floating-point operation).
@@ -385,12 +383,18 @@ struct QuaternionParts {
   return {__builtin_shufflevector(v, v, 1, 2, 3, 0), __builtin_shufflevector(v, v, 2, 3, 1, 0),
           __builtin_shufflevector(v, v, 3, 1, 2, 0), __builtin_shufflevector(s, s, 0, 0, 0, 1)};
 }
+[[gnu::always_inline]] inline float4 yzx(const float4& v) noexcept { return __builtin_shufflevector(v, v, 1, 2, 0, 3); }
+[[gnu::always_inline]] inline float4 zxy(const float4& v) noexcept { return __builtin_shufflevector(v, v, 2, 0, 1, 3); }
+/// u × b for u a quaternion's vector part: u_yzx b_zxy − u_zxy b_yzx, lane by lane dq::cross.
+[[gnu::always_inline]] inline float4 cross_lanes(const QuaternionParts& u, const float4& b) noexcept {
+  return u.yzx * zxy(b) - u.zxy * yzx(b);
+}
 /// Quaternion::rotate, v + t w + u × t with t = 2 (u × v), in lanes.
 inline Vec3<float> rotate_lanes(const Quaternion<float>& q, const Vec3<float>& v) noexcept {
   const QuaternionParts u = parts(to_lanes(q));
   const float4 vv = to_lanes(v);
-  const float4 t = (u.yzx * zxy(vv) - u.zxy * yzx(vv)) * float4{2, 2, 2, 2};
-  return vec3_from_lanes((vv + t * u.w) + (u.yzx * zxy(t) - u.zxy * yzx(t)));
+  const float4 t = cross_lanes(u, vv) * float4{2, 2, 2, 2};
+  return vec3_from_lanes((vv + t * u.w) + cross_lanes(u, t));
 }
 #endif
 }  // namespace detail

@@ -19,8 +19,9 @@ namespace dq {
 /// on a 64-byte cache line, and consecutive arrays are an odd number of lines apart (one or two
 /// lines of padding), so that no two of the first 64 arrays are a multiple of 4 KiB apart. Arrays
 /// a multiple of 4 KiB apart map to the same cache sets (and look alike to the prefetchers), and
-/// the streams of a kernel evict each other: the batch forward kinematics ran 1.3–1.55 × faster on padded, skewed
-/// arrays with no change to the kernel. Move-only; a moved-from object has size 0 and no arrays.
+/// the streams of a kernel evict each other: the batch forward kinematics ran 1.3–1.55 × faster
+/// on padded, skewed arrays with no change to the kernel. Move-only; a moved-from object has size
+/// 0 and no arrays.
 template <class T, std::size_t N>
 class ComponentArrays {
  public:
