@@ -124,11 +124,12 @@ void FkDispatched(benchmark::State& state) {
   report_fk(state, poses);
 }
 /// The same poses in blocks of 16 (dq/anim/pose_blocks.hpp): two streams instead of 24.
-void FkBlocksDispatched(benchmark::State& state) {
+void FkBlocks(benchmark::State& state, ModelStores stores) {
   const auto poses = static_cast<std::size_t>(state.range(0));
   const auto threads = static_cast<unsigned>(state.range(1));
   Skeletons& s = skeletons(poses);
-  const BlockedForwardKinematicsJob<float> job = s.blocked_job();
+  BlockedForwardKinematicsJob<float> job = s.blocked_job();
+  job.model_stores = stores;
   state.SetLabel(std::string(simd::to_string(simd::current_target())));
   for (auto _ : state) {
     if (threads == 1)
@@ -144,6 +145,9 @@ void FkBlocksDispatched(benchmark::State& state) {
       if (!(s.block_model.view().get(j, p) == s.model.view().get(j, p))) state.SkipWithError("blocked and joint-major results differ");
   report_fk(state, poses);
 }
+void FkBlocksDispatched(benchmark::State& state) { FkBlocks(state, ModelStores::cached); }
+/// With non-temporal stores of the model transforms (ModelStores::streaming).
+void FkBlocksStreaming(benchmark::State& state) { FkBlocks(state, ModelStores::streaming); }
 void FkScalarJob(benchmark::State& state) {
   const auto poses = static_cast<std::size_t>(state.range(0));
   Skeletons& s = skeletons(poses);
@@ -545,6 +549,7 @@ BENCHMARK(Triad)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK(PeakFma);
 BENCHMARK(FkDispatched)->Args({10'000, 1})->Args({10'000, 2})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
 BENCHMARK(FkBlocksDispatched)->Args({10'000, 1})->Args({10'000, 2})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
+BENCHMARK(FkBlocksStreaming)->Args({10'000, 1})->Args({10'000, 2})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
 BENCHMARK(FkScalarJob)->Arg(10'000)->Arg(100'000)->UseRealTime();
 BENCHMARK(FkEigenPerPose)->Arg(10'000)->UseRealTime();
 BENCHMARK(FkOneSkeletonDualQuaternion);

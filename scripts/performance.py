@@ -104,12 +104,16 @@ def main(build):
     for name, label in (
         ("FkBlocksDispatched/10000/1/real_time", "10,000 skeletons, dqkit pose blocks, dispatched, 1 thread"),
         ("FkBlocksDispatched/10000/2/real_time", "10,000 skeletons, dqkit pose blocks, dispatched, 2 threads"),
+        ("FkBlocksStreaming/10000/1/real_time", "10,000 skeletons, dqkit pose blocks, streaming stores, 1 thread"),
+        ("FkBlocksStreaming/10000/2/real_time", "10,000 skeletons, dqkit pose blocks, streaming stores, 2 threads"),
         ("FkDispatched/10000/1/real_time", "10,000 skeletons, dqkit joint-major, dispatched, 1 thread"),
         ("FkDispatched/10000/2/real_time", "10,000 skeletons, dqkit joint-major, dispatched, 2 threads"),
         ("FkScalarJob/10000/real_time", "10,000 skeletons, dqkit joint-major job, auto-vectorized"),
         ("FkEigenPerPose/10000/real_time", "10,000 skeletons, Eigen `Isometry3f` pose by pose"),
         ("FkBlocksDispatched/100000/1/real_time", "100,000 skeletons, dqkit pose blocks, dispatched, 1 thread"),
         ("FkBlocksDispatched/100000/2/real_time", "100,000 skeletons, dqkit pose blocks, dispatched, 2 threads"),
+        ("FkBlocksStreaming/100000/1/real_time", "100,000 skeletons, dqkit pose blocks, streaming stores, 1 thread"),
+        ("FkBlocksStreaming/100000/2/real_time", "100,000 skeletons, dqkit pose blocks, streaming stores, 2 threads"),
         ("FkDispatched/100000/1/real_time", "100,000 skeletons, dqkit joint-major, dispatched, 1 thread"),
         ("FkDispatched/100000/2/real_time", "100,000 skeletons, dqkit joint-major, dispatched, 2 threads"),
         ("FkScalarJob/100000/real_time", "100,000 skeletons, dqkit joint-major job, auto-vectorized"),
@@ -172,8 +176,10 @@ def main(build):
     names = ["10k ×64\n1 thread", "10k ×64\n2 threads", "100k ×64\n1 thread", "100k ×64\n2 threads"]
     cases = ["10000/1/real_time", "10000/2/real_time", "100000/1/real_time", "100000/2/real_time"]
     at = range(len(names))
-    ax[0].bar([x - 0.2 for x in at], [b["FkBlocksDispatched/" + k]["bytes_per_second"] / copy1 for k in cases], 0.4, label="pose blocks")
-    ax[0].bar([x + 0.2 for x in at], [b["FkDispatched/" + k]["bytes_per_second"] / copy1 for k in cases], 0.4, label="joint-major")
+    ax[0].bar([x - 0.27 for x in at], [b["FkBlocksStreaming/" + k]["bytes_per_second"] / copy1 for k in cases], 0.27,
+              label="pose blocks, streaming stores")
+    ax[0].bar(list(at), [b["FkBlocksDispatched/" + k]["bytes_per_second"] / copy1 for k in cases], 0.27, label="pose blocks")
+    ax[0].bar([x + 0.27 for x in at], [b["FkDispatched/" + k]["bytes_per_second"] / copy1 for k in cases], 0.27, label="joint-major")
     ax[0].set_xticks(list(at), names)
     ax[0].legend()
     ax[0].axhline(1.0, color="grey", linestyle=":")

@@ -107,21 +107,54 @@ TEST(PoseBlocks, DispatchedKernelIsTheScalarJobBitForBitAndKeepsToItsBlocks) {
   const std::span<const float> want = std::as_const(expected).view().data;
   const std::size_t block = kParents.size() * DualQuaternionBlocks<float>::joint_values;  // values per block
   const float sentinel = std::numeric_limits<float>::quiet_NaN();
+  for (const ModelStores stores : {ModelStores::cached, ModelStores::streaming}) {
+    SCOPED_TRACE(stores == ModelStores::cached ? "cached stores" : "streaming stores");
+    for_each_target([&](simd::Target) {
+      DualQuaternionBlockStorage<float> got(kParents.size(), kPoses);
+      const std::span<float> data = got.view().data;
+      // Block 1 alone: blocks 0 and 2 (with its padding poses) keep every value they had.
+      for (float& x : data) x = sentinel;
+      simd::run(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), got.view(), 1, 1, stores});
+      for (std::size_t i = 0; i < data.size(); ++i) {
+        if (i >= block && i < 2 * block)
+          ASSERT_TRUE(same_bits(data[i], want[i])) << "value " << i;
+        else
+          ASSERT_TRUE(std::isnan(data[i])) << "value " << i << " outside block 1 was written";
+      }
+      // Every block, padding poses included.
+      simd::run(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), got.view(), 0, 3, stores});
+      for (std::size_t i = 0; i < data.size(); ++i) ASSERT_TRUE(same_bits(data[i], want[i])) << "value " << i;
+    });
+  }
+}
+
+// Streaming stores need a copy of one block's joints on the stack (128 at most) and model storage
+// aligned for the widest vector: beyond those, the job falls back to cached stores, with the same
+// results (a non-temporal store to a misaligned address would fault).
+TEST(PoseBlocks, StreamingStoresFallBackWhereTheyCannotRun) {
+  test::Random rng(9);
+  for (const std::size_t joints : {std::size_t{128}, std::size_t{129}}) {
+    std::vector<int> chain(joints);
+    for (std::size_t j = 0; j < joints; ++j) chain[j] = static_cast<int>(j) - 1;
+    DualQuaternionBlockStorage<float> local(joints, 20), want(joints, 20), got(joints, 20);
+    for (std::size_t j = 0; j < joints; ++j)
+      for (std::size_t p = 0; p < 20; ++p) local.view().set(j, p, rng.rigid<float>(0.1f));
+    BlockedForwardKinematicsJob<float>{chain, local.view(), want.view(), 0, 2}.run();
+    for_each_target([&](simd::Target) {
+      simd::run(BlockedForwardKinematicsJob<float>{chain, local.view(), got.view(), 0, 2, ModelStores::streaming});
+      for (std::size_t i = 0; i < want.view().data.size(); ++i)
+        ASSERT_TRUE(same_bits(got.view().data[i], want.view().data[i])) << joints << " joints, value " << i;
+    });
+  }
+  // Model storage 16 bytes off a 64-byte boundary: 4 floats into a larger array.
+  const Poses in(5);
+  const std::size_t values = kParents.size() * DualQuaternionBlocks<float>::joint_values * 3;
+  DualQuaternionBlockStorage<float> want(kParents.size(), kPoses), room(kParents.size(), kPoses + 16);
+  BlockedForwardKinematicsJob<float>{kParents, in.local.view(), want.view(), 0, 3}.run();
+  const DualQuaternionBlocks<float> shifted{room.view().data.subspan(4, values), kParents.size(), 3};
   for_each_target([&](simd::Target) {
-    DualQuaternionBlockStorage<float> got(kParents.size(), kPoses);
-    const std::span<float> data = got.view().data;
-    // Block 1 alone: blocks 0 and 2 (with its padding poses) keep every value they had.
-    for (float& x : data) x = sentinel;
-    simd::run(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), got.view(), 1, 1});
-    for (std::size_t i = 0; i < data.size(); ++i) {
-      if (i >= block && i < 2 * block)
-        ASSERT_TRUE(same_bits(data[i], want[i])) << "value " << i;
-      else
-        ASSERT_TRUE(std::isnan(data[i])) << "value " << i << " outside block 1 was written";
-    }
-    // Every block, padding poses included.
-    simd::run(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), got.view(), 0, 3});
-    for (std::size_t i = 0; i < data.size(); ++i) ASSERT_TRUE(same_bits(data[i], want[i])) << "value " << i;
+    simd::run(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), shifted, 0, 3, ModelStores::streaming});
+    for (std::size_t i = 0; i < values; ++i) ASSERT_TRUE(same_bits(shifted.data[i], want.view().data[i])) << "value " << i;
   });
 }
 
@@ -129,8 +162,10 @@ TEST(PoseBlocks, ThreadsGiveTheSerialResult) {
   const Poses in(4);
   DualQuaternionBlockStorage<float> serial(kParents.size(), kPoses), parallel(kParents.size(), kPoses);
   BlockedForwardKinematicsJob<float>{kParents, in.local.view(), serial.view(), 0, 3}.run();
-  ASSERT_TRUE(simd::run_parallel(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), parallel.view(), 0, 3}, 2, 1).ok());
-  for (std::size_t i = 0; i < serial.view().data.size(); ++i) ASSERT_TRUE(same_bits(serial.view().data[i], parallel.view().data[i])) << i;
+  for (const ModelStores stores : {ModelStores::cached, ModelStores::streaming}) {
+    ASSERT_TRUE(simd::run_parallel(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), parallel.view(), 0, 3, stores}, 2, 1).ok());
+    for (std::size_t i = 0; i < serial.view().data.size(); ++i) ASSERT_TRUE(same_bits(serial.view().data[i], parallel.view().data[i])) << i;
+  }
 
   DualQuaternionBlockStorage<double> local(kParents.size(), kPoses), a(kParents.size(), kPoses), b(kParents.size(), kPoses);
   for (std::size_t j = 0; j < kParents.size(); ++j)

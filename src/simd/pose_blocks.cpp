@@ -13,6 +13,7 @@ namespace dq::simd {
 namespace {
 
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+using kernels::Lanes;
 using kernels::load8;
 using kernels::product;
 using kernels::store8;
@@ -41,8 +42,65 @@ template <int N>
   for (std::size_t k = 0; k < kLanes; k += N) store8<N>(model, k, product(load8<N>(parent, k), load8<N>(local, k)));
 }
 
+/// A non-temporal store of N lanes to `p` (aligned to the vector's size): written past the cache.
+/// (Not the intrinsics, which would need the instruction set's target attribute on every function
+/// that inlines them, and these templates serve all three targets: clang's builtin, and for GCC,
+/// which has none, the instruction itself.)
+template <int N>
+[[gnu::always_inline]] inline void stream(float* p, const Lanes<N>& x) {
+  kernels::vec<N>* at = reinterpret_cast<kernels::vec<N>*>(p);
+#if defined(__clang__)
+  __builtin_nontemporal_store(x.v, at);
+#else
+  if constexpr (N == 4) asm("movntps %1, %0" : "=m"(*at) : "x"(x.v));
+  else asm("vmovntps %1, %0" : "=m"(*at) : "v"(x.v));
+#endif
+}
+template <int N>
+[[gnu::always_inline]] inline void stream8(Rows r, std::size_t i, const DualQuaternion<Lanes<N>>& q) {
+  stream(r.rw + i, q.real.w), stream(r.rx + i, q.real.x), stream(r.ry + i, q.real.y), stream(r.rz + i, q.real.z);
+  stream(r.dw + i, q.dual.w), stream(r.dx + i, q.dual.x), stream(r.dy + i, q.dual.y), stream(r.dz + i, q.dual.z);
+}
+
+/// The joints a streaming job may have: one block's model transforms, kept for the children, fill
+/// 64 KB of the stack.
+constexpr std::size_t kStreamingJoints = 128;
+
+/// The job with ModelStores::streaming: each joint block's model transforms are written twice,
+/// to a copy of the block on the stack (in L1 or L2 cache, where the children find their parent)
+/// and to the model storage with non-temporal stores, which skip reading the lines they overwrite
+/// and leave the cache to the data still to be read. The fence makes those stores visible to
+/// other threads before the job returns, as ordinary stores are.
+template <int N>
+[[gnu::always_inline]] inline void run_streaming(const BlockedForwardKinematicsJob<float>& job) {
+  alignas(64) float kept[kStreamingJoints * DualQuaternionBlocks<float>::joint_values];
+  const DualQuaternionBlocks<float> block{kept, job.parents.size(), 1};
+  const DualQuaternionBlocks<const float> written = block;
+  for (std::size_t b = job.first_block; b < job.first_block + job.block_count; ++b)
+    for (std::size_t j = 0; j < job.parents.size(); ++j) {
+      const int p = job.parents[j];
+      const ConstRows local = job.local.joint_rows(b, j);
+      prefetch_ahead<0>(local.rw);
+      for (std::size_t k = 0; k < kLanes; k += N) {
+        const DualQuaternion<Lanes<N>> model =
+            p < 0 ? load8<N>(local, k) : product(load8<N>(written.joint_rows(0, static_cast<std::size_t>(p)), k), load8<N>(local, k));
+        store8<N>(block.joint_rows(0, j), k, model);
+        stream8<N>(job.model.joint_rows(b, j), k, model);
+      }
+    }
+  asm volatile("sfence" ::: "memory");
+}
+
+/// Whether `job` runs with non-temporal stores: asked for, with few enough joints for the stack
+/// copy and model storage aligned for the widest vector.
+bool streams(const BlockedForwardKinematicsJob<float>& job) {
+  return job.model_stores == ModelStores::streaming && job.parents.size() <= kStreamingJoints &&
+         reinterpret_cast<std::uintptr_t>(job.model.data.data()) % 64 == 0;
+}
+
 #define DQKIT_TARGET_KERNEL(name, lanes, attribute)                                                       \
   [[gnu::target(attribute), gnu::flatten]] void run_##name(const BlockedForwardKinematicsJob<float>& job) { \
+    if (streams(job)) return run_streaming<lanes>(job);                                                   \
     job.run_blocks([](ConstRows parent, ConstRows local, Rows model) { block_product<lanes>(parent, local, model); }); \
   }
 DQKIT_TARGET_KERNEL(sse2, 4, "sse2")
