@@ -124,12 +124,12 @@ void FkDispatched(benchmark::State& state) {
   report_fk(state, poses);
 }
 /// The same poses in blocks of 16 (dq/anim/pose_blocks.hpp): two streams instead of 24.
-void FkBlocks(benchmark::State& state, ModelStores stores) {
+void FkBlocks(benchmark::State& state, Stores stores) {
   const auto poses = static_cast<std::size_t>(state.range(0));
   const auto threads = static_cast<unsigned>(state.range(1));
   Skeletons& s = skeletons(poses);
   BlockedForwardKinematicsJob<float> job = s.blocked_job();
-  job.model_stores = stores;
+  job.stores = stores;
   state.SetLabel(std::string(simd::to_string(simd::current_target())));
   for (auto _ : state) {
     if (threads == 1)
@@ -145,9 +145,9 @@ void FkBlocks(benchmark::State& state, ModelStores stores) {
       if (!(s.block_model.view().get(j, p) == s.model.view().get(j, p))) state.SkipWithError("blocked and joint-major results differ");
   report_fk(state, poses);
 }
-void FkBlocksDispatched(benchmark::State& state) { FkBlocks(state, ModelStores::cached); }
-/// With non-temporal stores of the model transforms (ModelStores::streaming).
-void FkBlocksStreaming(benchmark::State& state) { FkBlocks(state, ModelStores::streaming); }
+void FkBlocksDispatched(benchmark::State& state) { FkBlocks(state, Stores::cached); }
+/// With non-temporal stores of the model transforms (Stores::streaming).
+void FkBlocksStreaming(benchmark::State& state) { FkBlocks(state, Stores::streaming); }
 void FkScalarJob(benchmark::State& state) {
   const auto poses = static_cast<std::size_t>(state.range(0));
   Skeletons& s = skeletons(poses);

@@ -107,8 +107,8 @@ TEST(PoseBlocks, DispatchedKernelIsTheScalarJobBitForBitAndKeepsToItsBlocks) {
   const std::span<const float> want = std::as_const(expected).view().data;
   const std::size_t block = kParents.size() * DualQuaternionBlocks<float>::joint_values;  // values per block
   const float sentinel = std::numeric_limits<float>::quiet_NaN();
-  for (const ModelStores stores : {ModelStores::cached, ModelStores::streaming}) {
-    SCOPED_TRACE(stores == ModelStores::cached ? "cached stores" : "streaming stores");
+  for (const Stores stores : {Stores::cached, Stores::streaming}) {
+    SCOPED_TRACE(stores == Stores::cached ? "cached stores" : "streaming stores");
     for_each_target([&](simd::Target) {
       DualQuaternionBlockStorage<float> got(kParents.size(), kPoses);
       const std::span<float> data = got.view().data;
@@ -141,7 +141,7 @@ TEST(PoseBlocks, StreamingStoresFallBackWhereTheyCannotRun) {
       for (std::size_t p = 0; p < 20; ++p) local.view().set(j, p, rng.rigid<float>(0.1f));
     BlockedForwardKinematicsJob<float>{chain, local.view(), want.view(), 0, 2}.run();
     for_each_target([&](simd::Target) {
-      simd::run(BlockedForwardKinematicsJob<float>{chain, local.view(), got.view(), 0, 2, ModelStores::streaming});
+      simd::run(BlockedForwardKinematicsJob<float>{chain, local.view(), got.view(), 0, 2, Stores::streaming});
       for (std::size_t i = 0; i < want.view().data.size(); ++i)
         ASSERT_TRUE(same_bits(got.view().data[i], want.view().data[i])) << joints << " joints, value " << i;
     });
@@ -153,7 +153,7 @@ TEST(PoseBlocks, StreamingStoresFallBackWhereTheyCannotRun) {
   BlockedForwardKinematicsJob<float>{kParents, in.local.view(), want.view(), 0, 3}.run();
   const DualQuaternionBlocks<float> shifted{room.view().data.subspan(4, values), kParents.size(), 3};
   for_each_target([&](simd::Target) {
-    simd::run(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), shifted, 0, 3, ModelStores::streaming});
+    simd::run(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), shifted, 0, 3, Stores::streaming});
     for (std::size_t i = 0; i < values; ++i) ASSERT_TRUE(same_bits(shifted.data[i], want.view().data[i])) << "value " << i;
   });
 }
@@ -162,7 +162,7 @@ TEST(PoseBlocks, ThreadsGiveTheSerialResult) {
   const Poses in(4);
   DualQuaternionBlockStorage<float> serial(kParents.size(), kPoses), parallel(kParents.size(), kPoses);
   BlockedForwardKinematicsJob<float>{kParents, in.local.view(), serial.view(), 0, 3}.run();
-  for (const ModelStores stores : {ModelStores::cached, ModelStores::streaming}) {
+  for (const Stores stores : {Stores::cached, Stores::streaming}) {
     ASSERT_TRUE(simd::run_parallel(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), parallel.view(), 0, 3, stores}, 2, 1).ok());
     for (std::size_t i = 0; i < serial.view().data.size(); ++i) ASSERT_TRUE(same_bits(serial.view().data[i], parallel.view().data[i])) << i;
   }

@@ -17,6 +17,8 @@ using kernels::Lanes;
 using kernels::load8;
 using kernels::product;
 using kernels::store8;
+using kernels::store_streaming;
+using kernels::stream_fence;
 
 constexpr std::size_t kLanes = DualQuaternionBlocks<float>::poses_per_block;
 
@@ -42,31 +44,19 @@ template <int N>
   for (std::size_t k = 0; k < kLanes; k += N) store8<N>(model, k, product(load8<N>(parent, k), load8<N>(local, k)));
 }
 
-/// A non-temporal store of N lanes to `p` (aligned to the vector's size): written past the cache.
-/// (Not the intrinsics, which would need the instruction set's target attribute on every function
-/// that inlines them, and these templates serve all three targets: clang's builtin, and for GCC,
-/// which has none, the instruction itself.)
-template <int N>
-[[gnu::always_inline]] inline void stream(float* p, const Lanes<N>& x) {
-  kernels::vec<N>* at = reinterpret_cast<kernels::vec<N>*>(p);
-#if defined(__clang__)
-  __builtin_nontemporal_store(x.v, at);
-#else
-  if constexpr (N == 4) asm("movntps %1, %0" : "=m"(*at) : "x"(x.v));
-  else asm("vmovntps %1, %0" : "=m"(*at) : "v"(x.v));
-#endif
-}
+/// store8 with non-temporal stores.
 template <int N>
 [[gnu::always_inline]] inline void stream8(Rows r, std::size_t i, const DualQuaternion<Lanes<N>>& q) {
-  stream(r.rw + i, q.real.w), stream(r.rx + i, q.real.x), stream(r.ry + i, q.real.y), stream(r.rz + i, q.real.z);
-  stream(r.dw + i, q.dual.w), stream(r.dx + i, q.dual.x), stream(r.dy + i, q.dual.y), stream(r.dz + i, q.dual.z);
+  store_streaming(r.rw + i, q.real.w.v), store_streaming(r.rx + i, q.real.x.v), store_streaming(r.ry + i, q.real.y.v);
+  store_streaming(r.rz + i, q.real.z.v), store_streaming(r.dw + i, q.dual.w.v), store_streaming(r.dx + i, q.dual.x.v);
+  store_streaming(r.dy + i, q.dual.y.v), store_streaming(r.dz + i, q.dual.z.v);
 }
 
 /// The joints a streaming job may have: one block's model transforms, kept for the children, fill
 /// 64 KB of the stack.
 constexpr std::size_t kStreamingJoints = 128;
 
-/// The job with ModelStores::streaming: each joint block's model transforms are written twice,
+/// The job with Stores::streaming: each joint block's model transforms are written twice,
 /// to a copy of the block on the stack (in L1 or L2 cache, where the children find their parent)
 /// and to the model storage with non-temporal stores, which skip reading the lines they overwrite
 /// and leave the cache to the data still to be read. The fence makes those stores visible to
@@ -88,13 +78,13 @@ template <int N>
         stream8<N>(job.model.joint_rows(b, j), k, model);
       }
     }
-  asm volatile("sfence" ::: "memory");
+  stream_fence();
 }
 
 /// Whether `job` runs with non-temporal stores: asked for, with few enough joints for the stack
 /// copy and model storage aligned for the widest vector.
 bool streams(const BlockedForwardKinematicsJob<float>& job) {
-  return job.model_stores == ModelStores::streaming && job.parents.size() <= kStreamingJoints &&
+  return job.stores == Stores::streaming && job.parents.size() <= kStreamingJoints &&
          reinterpret_cast<std::uintptr_t>(job.model.data.data()) % 64 == 0;
 }
 

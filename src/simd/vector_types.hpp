@@ -54,5 +54,26 @@ template <class T>
   return v;
 }
 
+/// A non-temporal store of `x` to `p` (aligned to the vector's size): written past the cache, for
+/// Stores::streaming. Not the intrinsics, which would need the instruction set's target attribute
+/// on every function that inlines them, while the kernels' templates serve all three targets:
+/// clang's builtin, and for GCC, which has none, the instruction itself. A kernel that streams
+/// ends with stream_fence().
+template <class V>
+[[gnu::always_inline]] inline void store_streaming(float* p, const V& x) {
+  V* at = reinterpret_cast<V*>(p);
+#if defined(__clang__)
+  __builtin_nontemporal_store(x, at);
+#else
+  if constexpr (sizeof(V) == 16)
+    asm("movntps %1, %0" : "=m"(*at) : "x"(x));
+  else
+    asm("vmovntps %1, %0" : "=m"(*at) : "v"(x));
+#endif
+}
+/// Orders the non-temporal stores before the stores that follow, so that they are visible to
+/// other threads, as ordinary stores are, once the job has returned.
+[[gnu::always_inline]] inline void stream_fence() { asm volatile("sfence" ::: "memory"); }
+
 }  // namespace dq::kernels
 #endif

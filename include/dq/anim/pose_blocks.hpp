@@ -17,6 +17,7 @@
 
 #include "dq/anim/forward_kinematics.hpp"
 #include "dq/util/component_arrays.hpp"
+#include "dq/util/stores.hpp"
 
 namespace dq {
 
@@ -107,12 +108,6 @@ class DualQuaternionBlockStorage {
   ComponentArrays<T, 1> data_;  // one array, 64-byte aligned, zeroed
 };
 
-/// How forward kinematics writes the model transforms.
-enum class ModelStores {
-  cached,     ///< ordinary stores: the results stay in the cache for whatever reads them next
-  streaming,  ///< non-temporal stores, past the cache: for batches larger than the last-level cache
-};
-
 /// Forward kinematics of the poses in blocks [first_block, first_block + block_count), in the
 /// style of ForwardKinematicsJob: model[j] = model[parent(j)] · local[j] for every pose, block by
 /// block, with the same product as the joint-major job (bit for bit) and the scalar types (whose
@@ -125,14 +120,11 @@ struct BlockedForwardKinematicsJob {
   DualQuaternionBlocks<T> model;
   std::size_t first_block = 0;
   std::size_t block_count = 0;
-  /// A hint for dq::simd::run's float kernels; the results are the same bits either way.
-  /// ModelStores::streaming writes past the cache, so a write does not first read the line it
-  /// overwrites and evict data still to be read: with 100,000 poses of 64 joints it ran 1.1–1.4×
-  /// faster (docs/performance.md). It pays when the model transforms will not be read while still
-  /// in the cache, and costs when they would. It is honoured for up to 128 joints and model
-  /// storage aligned to 64 bytes (DualQuaternionBlockStorage's is); otherwise, and in run(), the
-  /// stores are cached.
-  ModelStores model_stores = ModelStores::cached;
+  /// How dq::simd::run's float kernels write the model transforms (dq/util/stores.hpp): with
+  /// Stores::streaming, 100,000 poses of 64 joints ran 1.26× faster on one thread
+  /// (docs/performance.md). Streaming is honoured for up to 128 joints and model storage aligned
+  /// to 64 bytes (DualQuaternionBlockStorage's is); otherwise, and in run(), the stores are cached.
+  Stores stores = Stores::cached;
 
   Status validate() const {
     const std::size_t joints = parents.size();
