@@ -40,6 +40,11 @@ void expect_same_bits(const DualQuaternion<float>& a, const DualQuaternion<float
   for (int k = 0; k < 8; ++k) ASSERT_TRUE(same_bits(x[k], y[k])) << "joint " << j << " pose " << p << " component " << k;
 }
 
+/// Every value of `data` set to NaN, so that a value a job does not write cannot pass for a result.
+void poison(std::span<float> data) {
+  for (float& x : data) x = std::numeric_limits<float>::quiet_NaN();
+}
+
 TEST(PoseBlocks, LayoutIsTheDocumentedOne) {
   const std::size_t joints = 3, poses = 35;
   DualQuaternionBlockStorage<float> storage(joints, poses);
@@ -106,14 +111,13 @@ TEST(PoseBlocks, DispatchedKernelIsTheScalarJobBitForBitAndKeepsToItsBlocks) {
   BlockedForwardKinematicsJob<float>{kParents, in.local.view(), expected.view(), 0, 3}.run();
   const std::span<const float> want = std::as_const(expected).view().data;
   const std::size_t block = kParents.size() * DualQuaternionBlocks<float>::joint_values;  // values per block
-  const float sentinel = std::numeric_limits<float>::quiet_NaN();
   for (const Stores stores : {Stores::cached, Stores::streaming}) {
     SCOPED_TRACE(stores == Stores::cached ? "cached stores" : "streaming stores");
     for_each_target([&](simd::Target) {
       DualQuaternionBlockStorage<float> got(kParents.size(), kPoses);
       const std::span<float> data = got.view().data;
       // Block 1 alone: blocks 0 and 2 (with its padding poses) keep every value they had.
-      for (float& x : data) x = sentinel;
+      poison(data);
       simd::run(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), got.view(), 1, 1, stores});
       for (std::size_t i = 0; i < data.size(); ++i) {
         if (i >= block && i < 2 * block)
@@ -130,7 +134,8 @@ TEST(PoseBlocks, DispatchedKernelIsTheScalarJobBitForBitAndKeepsToItsBlocks) {
 
 // Streaming stores need a copy of one block's joints on the stack (128 at most) and model storage
 // aligned for the widest vector: beyond those, the job falls back to cached stores, with the same
-// results (a non-temporal store to a misaligned address would fault).
+// results (a non-temporal store to an address not aligned to its vector faults: 16 bytes off is
+// misaligned for AVX2 and AVX-512, 32 bytes off for AVX-512).
 TEST(PoseBlocks, StreamingStoresFallBackWhereTheyCannotRun) {
   test::Random rng(9);
   for (const std::size_t joints : {std::size_t{128}, std::size_t{129}}) {
@@ -141,21 +146,26 @@ TEST(PoseBlocks, StreamingStoresFallBackWhereTheyCannotRun) {
       for (std::size_t p = 0; p < 20; ++p) local.view().set(j, p, rng.rigid<float>(0.1f));
     BlockedForwardKinematicsJob<float>{chain, local.view(), want.view(), 0, 2}.run();
     for_each_target([&](simd::Target) {
+      poison(got.view().data);
       simd::run(BlockedForwardKinematicsJob<float>{chain, local.view(), got.view(), 0, 2, Stores::streaming});
       for (std::size_t i = 0; i < want.view().data.size(); ++i)
         ASSERT_TRUE(same_bits(got.view().data[i], want.view().data[i])) << joints << " joints, value " << i;
     });
   }
-  // Model storage 16 bytes off a 64-byte boundary: 4 floats into a larger array.
+  // Model storage 4, 8 and 12 floats (16, 32 and 48 bytes) off a 64-byte boundary, in a larger array.
   const Poses in(5);
   const std::size_t values = kParents.size() * DualQuaternionBlocks<float>::joint_values * 3;
   DualQuaternionBlockStorage<float> want(kParents.size(), kPoses), room(kParents.size(), kPoses + 16);
   BlockedForwardKinematicsJob<float>{kParents, in.local.view(), want.view(), 0, 3}.run();
-  const DualQuaternionBlocks<float> shifted{room.view().data.subspan(4, values), kParents.size(), 3};
-  for_each_target([&](simd::Target) {
-    simd::run(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), shifted, 0, 3, Stores::streaming});
-    for (std::size_t i = 0; i < values; ++i) ASSERT_TRUE(same_bits(shifted.data[i], want.view().data[i])) << "value " << i;
-  });
+  for (const std::size_t offset : {std::size_t{4}, std::size_t{8}, std::size_t{12}}) {
+    const DualQuaternionBlocks<float> shifted{room.view().data.subspan(offset, values), kParents.size(), 3};
+    for_each_target([&](simd::Target) {
+      poison(room.view().data);
+      simd::run(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), shifted, 0, 3, Stores::streaming});
+      for (std::size_t i = 0; i < values; ++i)
+        ASSERT_TRUE(same_bits(shifted.data[i], want.view().data[i])) << "offset " << offset << ", value " << i;
+    });
+  }
 }
 
 TEST(PoseBlocks, ThreadsGiveTheSerialResult) {
@@ -163,6 +173,7 @@ TEST(PoseBlocks, ThreadsGiveTheSerialResult) {
   DualQuaternionBlockStorage<float> serial(kParents.size(), kPoses), parallel(kParents.size(), kPoses);
   BlockedForwardKinematicsJob<float>{kParents, in.local.view(), serial.view(), 0, 3}.run();
   for (const Stores stores : {Stores::cached, Stores::streaming}) {
+    poison(parallel.view().data);
     ASSERT_TRUE(simd::run_parallel(BlockedForwardKinematicsJob<float>{kParents, in.local.view(), parallel.view(), 0, 3, stores}, 2, 1).ok());
     for (std::size_t i = 0; i < serial.view().data.size(); ++i) ASSERT_TRUE(same_bits(serial.view().data[i], parallel.view().data[i])) << i;
   }

@@ -24,7 +24,7 @@ constexpr std::size_t kLanes = DualQuaternionBlocks<float>::poses_per_block;
 
 /// How far ahead of the joint block being computed the local and model streams are prefetched:
 /// four joint blocks (2 KB). With the hardware prefetcher alone, one thread reached 0.79 of the
-/// copy bandwidth at 100,000 skeletons; with this, 0.89 to 1.01 in four runs (docs/performance.md).
+/// copy bandwidth at 100,000 skeletons; with this, 0.82 to 1.01 in seven runs (docs/performance.md).
 constexpr std::uintptr_t kPrefetchAhead = 4 * DualQuaternionBlocks<float>::joint_values * sizeof(float);
 
 /// Prefetches the 8 cache lines of the joint block `kPrefetchAhead` bytes after the one whose first
@@ -44,26 +44,19 @@ template <int N>
   for (std::size_t k = 0; k < kLanes; k += N) store8<N>(model, k, product(load8<N>(parent, k), load8<N>(local, k)));
 }
 
-/// store8 with non-temporal stores.
-template <int N>
-[[gnu::always_inline]] inline void stream8(Rows r, std::size_t i, const DualQuaternion<Lanes<N>>& q) {
-  store_streaming(r.rw + i, q.real.w.v), store_streaming(r.rx + i, q.real.x.v), store_streaming(r.ry + i, q.real.y.v);
-  store_streaming(r.rz + i, q.real.z.v), store_streaming(r.dw + i, q.dual.w.v), store_streaming(r.dx + i, q.dual.x.v);
-  store_streaming(r.dy + i, q.dual.y.v), store_streaming(r.dz + i, q.dual.z.v);
-}
-
 /// The joints a streaming job may have: one block's model transforms, kept for the children, fill
 /// 64 KB of the stack.
 constexpr std::size_t kStreamingJoints = 128;
 
-/// The job with Stores::streaming: each joint block's model transforms are written twice,
-/// to a copy of the block on the stack (in L1 or L2 cache, where the children find their parent)
-/// and to the model storage with non-temporal stores, which skip reading the lines they overwrite
-/// and leave the cache to the data still to be read. The fence makes those stores visible to
-/// other threads before the job returns, as ordinary stores are.
+/// The job with Stores::streaming: each joint block's model transforms go to a copy of the block
+/// on the stack (in L1 or L2 cache, where the children find their parent), and from there, as
+/// eight whole cache lines in order, to the model storage with non-temporal stores, which skip
+/// reading the lines they overwrite and leave the cache to the data still to be read. The fence
+/// makes those stores visible to other threads before the job returns, as ordinary stores are.
 template <int N>
 [[gnu::always_inline]] inline void run_streaming(const BlockedForwardKinematicsJob<float>& job) {
-  alignas(64) float kept[kStreamingJoints * DualQuaternionBlocks<float>::joint_values];
+  constexpr std::size_t values = DualQuaternionBlocks<float>::joint_values;
+  alignas(64) float kept[kStreamingJoints * values];
   const DualQuaternionBlocks<float> block{kept, job.parents.size(), 1};
   const DualQuaternionBlocks<const float> written = block;
   for (std::size_t b = job.first_block; b < job.first_block + job.block_count; ++b)
@@ -71,18 +64,20 @@ template <int N>
       const int p = job.parents[j];
       const ConstRows local = job.local.joint_rows(b, j);
       prefetch_ahead<0>(local.rw);
-      for (std::size_t k = 0; k < kLanes; k += N) {
-        const DualQuaternion<Lanes<N>> model =
-            p < 0 ? load8<N>(local, k) : product(load8<N>(written.joint_rows(0, static_cast<std::size_t>(p)), k), load8<N>(local, k));
-        store8<N>(block.joint_rows(0, j), k, model);
-        stream8<N>(job.model.joint_rows(b, j), k, model);
-      }
+      for (std::size_t k = 0; k < kLanes; k += N)
+        store8<N>(block.joint_rows(0, j), k,
+                  p < 0 ? load8<N>(local, k) : product(load8<N>(written.joint_rows(0, static_cast<std::size_t>(p)), k), load8<N>(local, k)));
+      const float* from = written.joint_block(0, j);
+      float* to = job.model.joint_block(b, j);
+      for (std::size_t i = 0; i < values; i += N) store_streaming(to + i, kernels::load<N>(from + i).v);
     }
   stream_fence();
 }
 
 /// Whether `job` runs with non-temporal stores: asked for, with few enough joints for the stack
-/// copy and model storage aligned for the widest vector.
+/// copy and model storage aligned for the widest vector. (On AVX2 and AVX-512 only: the SSE2
+/// kernel, compute-bound at 100,000 × 64, measured 1.24 × slower with them, AVX2 1.02 × faster
+/// and AVX-512 1.16 × faster, in one run with the target forced.)
 bool streams(const BlockedForwardKinematicsJob<float>& job) {
   return job.stores == Stores::streaming && job.parents.size() <= kStreamingJoints &&
          reinterpret_cast<std::uintptr_t>(job.model.data.data()) % 64 == 0;
@@ -90,13 +85,21 @@ bool streams(const BlockedForwardKinematicsJob<float>& job) {
 
 #define DQKIT_TARGET_KERNEL(name, lanes, attribute)                                                       \
   [[gnu::target(attribute), gnu::flatten]] void run_##name(const BlockedForwardKinematicsJob<float>& job) { \
-    if (streams(job)) return run_streaming<lanes>(job);                                                   \
     job.run_blocks([](ConstRows parent, ConstRows local, Rows model) { block_product<lanes>(parent, local, model); }); \
   }
 DQKIT_TARGET_KERNEL(sse2, 4, "sse2")
 DQKIT_TARGET_KERNEL(avx2, 8, "avx2")
 DQKIT_TARGET_KERNEL(avx512, 16, "avx512f")
 #undef DQKIT_TARGET_KERNEL
+// The streaming kernels are functions of their own, so that their 64 KB stack copy is not part of
+// the cached kernels' frames.
+#define DQKIT_STREAMING_KERNEL(name, lanes, attribute)                                                    \
+  [[gnu::target(attribute), gnu::flatten]] void stream_##name(const BlockedForwardKinematicsJob<float>& job) { \
+    run_streaming<lanes>(job);                                                                            \
+  }
+DQKIT_STREAMING_KERNEL(avx2, 8, "avx2")
+DQKIT_STREAMING_KERNEL(avx512, 16, "avx512f")
+#undef DQKIT_STREAMING_KERNEL
 #endif
 
 }  // namespace
@@ -105,8 +108,8 @@ void run(const BlockedForwardKinematicsJob<float>& job) {
   DQ_PRECONDITION(job.validate().ok(), "simd::run on a blocked job that does not validate");
   switch (current_target()) {
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-    case Target::avx512: return run_avx512(job);
-    case Target::avx2: return run_avx2(job);
+    case Target::avx512: return streams(job) ? stream_avx512(job) : run_avx512(job);
+    case Target::avx2: return streams(job) ? stream_avx2(job) : run_avx2(job);
     case Target::sse2: return run_sse2(job);
 #endif
     default: return job.run();

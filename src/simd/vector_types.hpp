@@ -66,9 +66,9 @@ template <class V>
   __builtin_nontemporal_store(x, at);
 #else
   if constexpr (sizeof(V) == 16)
-    asm("movntps %1, %0" : "=m"(*at) : "x"(x));
+    asm("{movntps %1, %0|movntps %0, %1}" : "=m"(*at) : "x"(x));  // AT&T | Intel syntax
   else
-    asm("vmovntps %1, %0" : "=m"(*at) : "v"(x));
+    asm("{vmovntps %1, %0|vmovntps %0, %1}" : "=m"(*at) : "v"(x));
 #endif
 }
 /// Orders the non-temporal stores before the stores that follow, so that they are visible to

@@ -121,9 +121,11 @@ struct BlockedForwardKinematicsJob {
   std::size_t first_block = 0;
   std::size_t block_count = 0;
   /// How dq::simd::run's float kernels write the model transforms (dq/util/stores.hpp): with
-  /// Stores::streaming, 100,000 poses of 64 joints ran 1.26× faster on one thread
-  /// (docs/performance.md). Streaming is honoured for up to 128 joints and model storage aligned
-  /// to 64 bytes (DualQuaternionBlockStorage's is); otherwise, and in run(), the stores are cached.
+  /// Stores::streaming, 100,000 poses of 64 joints ran 1.12–1.26× faster on one thread
+  /// (docs/performance.md). Streaming is honoured by the AVX2 and AVX-512 kernels for up to 128
+  /// joints and model storage aligned to 64 bytes (DualQuaternionBlockStorage's is), and then needs
+  /// 64 KB of stack; otherwise (the SSE2 kernel, which it slowed down, run(), double, a build
+  /// without the vector kernels) the stores are cached.
   Stores stores = Stores::cached;
 
   Status validate() const {
