@@ -24,7 +24,7 @@ constexpr std::size_t kLanes = DualQuaternionBlocks<float>::poses_per_block;
 
 /// How far ahead of the joint block being computed the local and model streams are prefetched:
 /// four joint blocks (2 KB). With the hardware prefetcher alone, one thread reached 0.79 of the
-/// copy bandwidth at 100,000 skeletons; with this, 0.82 to 1.01 in seven runs (docs/performance.md).
+/// copy bandwidth at 100,000 skeletons; with this, 0.82 to 1.01 in eight runs (docs/performance.md).
 constexpr std::uintptr_t kPrefetchAhead = 4 * DualQuaternionBlocks<float>::joint_values * sizeof(float);
 
 /// Prefetches the 8 cache lines of the joint block `kPrefetchAhead` bytes after the one whose first
