@@ -51,37 +51,74 @@ Quaternion<T> unit_to_rounding(const Quaternion<T>& q) {
   return q.normalized();
 }
 
-/// slerp on the shortest arc for plain values (no derivative parts), faster than the exp/log
-/// form (one asin and one sincos): a and b unit with a · b ≥ 0, so the angle Ω between them is at most π/2 and
-/// Ω = 2 asin(|a − b|/2), accurate at every angle. The weights sin((1−t)Ω)/sin Ω and
-/// sin(tΩ)/sin Ω come from the sincos of tΩ and the two chords; for Ω² below √ε from their series
-/// t (1 + (1 − t²) Ω²/6), so nothing divides by a vanishing sine.
-template <class T>
-Quaternion<T> slerp_shortest_values(const Quaternion<T>& a, const Quaternion<T>& b, const T& t) {
+/// The slerp weights (of a and of b) for unit a, b with a · b ≥ 0 from the chords |a − b| and
+/// |a + b| (the second is read only where Ω² ≥ √ε, so a caller may compute it lazily): the angle
+/// Ω between them is at most π/2 and Ω = 2 asin(|a − b|/2), accurate at every angle. The weights
+/// sin((1−t)Ω)/sin Ω and sin(tΩ)/sin Ω come from the sincos of tΩ and the two chords; for Ω² below
+/// √ε from their series t (1 + (1 − t²) Ω²/6), so nothing divides by a vanishing sine.
+template <class T, class Opposite>
+std::pair<T, T> slerp_weights(const T& chord, Opposite opposite_chord, const T& t) {
   using std::asin;
   using std::cos;
   using std::min;
   using std::sin;
+  const T omega = T(2) * asin(min(chord / T(2), T(1)));
+  if (omega * omega < square_root_epsilon<real_t<T>>) {
+    const T s = T(1) - t, w2 = omega * omega / T(6);
+    return {s * (T(1) + (T(1) - s * s) * w2), t * (T(1) + (T(1) - t * t) * w2)};
+  }
+  // sin((1−t)Ω) = sin Ω cos tΩ − cos Ω sin tΩ, with sin Ω = 2 sin(Ω/2) cos(Ω/2) and cos Ω =
+  // cos²(Ω/2) − sin²(Ω/2) from the chords (|a − b| = 2 sin(Ω/2), |a + b| = 2 cos(Ω/2)).
+  const T opposite = opposite_chord();
+  const T sin_omega = chord * opposite / T(2), cos_omega = (opposite * opposite - chord * chord) / T(4);
+  const T wb = sin(t * omega) / sin_omega;
+  return {cos(t * omega) - cos_omega * wb, wb};
+}
+
+/// slerp on the shortest arc for plain values (no derivative parts), faster than the exp/log
+/// form (one asin and one sincos, slerp_weights): a and b unit with a · b ≥ 0.
+template <class T>
+Quaternion<T> slerp_shortest_values(const Quaternion<T>& a, const Quaternion<T>& b, const T& t) {
   using std::sqrt;
   if (t == T(1)) return b;  // the endpoint exactly (a needs no test: sin 0 = 0 and cos 0 = 1)
   const Quaternion<T> difference = a - b;
-  const T chord = sqrt(dot(difference, difference));
-  const T omega = T(2) * asin(min(chord / T(2), T(1)));
-  T wa, wb;
-  if (omega * omega < square_root_epsilon<real_t<T>>) {
-    const T s = T(1) - t, w2 = omega * omega / T(6);
-    wa = s * (T(1) + (T(1) - s * s) * w2);
-    wb = t * (T(1) + (T(1) - t * t) * w2);
-  } else {
-    // sin((1−t)Ω) = sin Ω cos tΩ − cos Ω sin tΩ, with sin Ω = 2 sin(Ω/2) cos(Ω/2) and cos Ω =
-    // cos²(Ω/2) − sin²(Ω/2) from the chords (|a − b| = 2 sin(Ω/2), |a + b| = 2 cos(Ω/2)).
-    const T opposite = sqrt(dot(a + b, a + b));
-    const T sin_omega = chord * opposite / T(2), cos_omega = (opposite * opposite - chord * chord) / T(4);
-    wb = sin(t * omega) / sin_omega;
-    wa = cos(t * omega) - cos_omega * wb;
-  }
+  const auto [wa, wb] = slerp_weights(sqrt(dot(difference, difference)), [&] { return sqrt(dot(a + b, a + b)); }, t);
   return a * wa + b * wb;
 }
+
+#if DQKIT_VECTOR_EXTENSIONS
+/// slerp on the shortest arc for float inputs that are unit to rounding (false, and `out` left as
+/// it is, where one is not: the general path normalizes it first), with the quaternion arithmetic
+/// in the lanes of one vector: |a|², |b|², |a − b|², |a + b|² from one transpose, a · b, and the
+/// weighted sum, with the same operations in the same order as the general path (sums of squares
+/// left to right, as dot), so bit for bit its result; the weights are slerp_weights'.
+inline bool slerp_shortest_lanes(const Quaternion<float>& a, const Quaternion<float>& b, float t, InterpolationReport* report,
+                                 Quaternion<float>& out) {
+  using std::abs;
+  using std::sqrt;
+  const float4 va = to_lanes(a), vb = to_lanes(b);
+  const float4 d = va - vb, s = va + vb, p0 = va * va, p1 = vb * vb, p2 = d * d, p3 = s * s;
+  // Transposed, lane k holds the four squares of p_k, summed w, x, y, z in order: (|a|², |b|², |a − b|², |a + b|²).
+  const float4 t0 = __builtin_shufflevector(p0, p1, 0, 4, 1, 5), t1 = __builtin_shufflevector(p0, p1, 2, 6, 3, 7);
+  const float4 t2 = __builtin_shufflevector(p2, p3, 0, 4, 1, 5), t3 = __builtin_shufflevector(p2, p3, 2, 6, 3, 7);
+  const float4 squares = ((__builtin_shufflevector(t0, t2, 0, 1, 4, 5) + __builtin_shufflevector(t0, t2, 2, 3, 6, 7)) +
+                          __builtin_shufflevector(t1, t3, 0, 1, 4, 5)) +
+                         __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
+  constexpr float tolerance = 4 * std::numeric_limits<float>::epsilon();  // as unit_to_rounding
+  if (!(abs(squares[0] - 1.0f) <= tolerance) || !(abs(squares[1] - 1.0f) <= tolerance)) return false;
+  const float4 ab = va * vb;
+  const float d_ab = ((ab[0] + ab[1]) + ab[2]) + ab[3];
+  if (report) report->ambiguous = d_ab == 0.0f;
+  const bool flip = d_ab < 0.0f;  // then b is −b: its chords swap
+  if (t == 1.0f) {
+    out = flip ? -b : b;
+    return true;
+  }
+  const auto [wa, wb] = slerp_weights(sqrt(squares[flip ? 3 : 2]), [&] { return sqrt(squares[flip ? 2 : 3]); }, t);
+  out = from_lanes(va * wa + vb * (flip ? -wb : wb));
+  return true;
+}
+#endif
 }  // namespace detail
 
 /// Spherical linear interpolation between rotations a (t = 0) and b (t = 1), at constant angular
@@ -100,6 +137,12 @@ Quaternion<T> slerp(const Quaternion<T>& a, const Quaternion<T>& b, const std::t
                     Path path = Path::shortest, InterpolationReport* report = nullptr) {
   if constexpr (!has_derivatives_v<T>) {
     if (path == Path::shortest) {
+#if DQKIT_VECTOR_EXTENSIONS
+      if constexpr (std::is_same_v<T, float>) {
+        Quaternion<float> out;
+        if (detail::slerp_shortest_lanes(a, b, t, report, out)) return out;
+      }
+#endif
       const Quaternion<T> ua = detail::unit_to_rounding(a), ub = detail::unit_to_rounding(b);
       return detail::slerp_shortest_values(ua, detail::align_sign(ub, dot(ua, ub), path, report), t);
     }
