@@ -9,6 +9,7 @@
 #include <utility>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <ranges>
 #include <span>
 #include <type_traits>
@@ -39,14 +40,19 @@ Q align_sign(const Q& b, const T& d, Path path, InterpolationReport* report) {
   return flip ? -b : b;
 }
 
-/// q itself if it is unit to rounding (|q|² within 4 ε of 1: normalizing would move each
-/// component by at most 2 ε relative, a few ulps), else q.normalized(). For plain values: it saves
-/// slerp a square root and a division per input on its latency path (with normalized() inlining
-/// its common path: 28 → 22 ns per float slerp), with no effect beyond rounding.
+/// Whether a quaternion with this |q|² is unit to rounding: within 4 ε of 1, where normalizing
+/// would move each component by at most 2 ε relative, a few ulps.
+template <class T>
+bool is_unit_to_rounding(const T& squared_norm) {
+  using std::abs;
+  return abs(squared_norm - T(1)) <= T(4) * std::numeric_limits<T>::epsilon();
+}
+/// q itself if it is unit to rounding, else q.normalized(). For plain values: it saves slerp a
+/// square root and a division per input on its latency path (with normalized() inlining its common
+/// path: 28 → 22 ns per float slerp), with no effect beyond rounding.
 template <class T>
 Quaternion<T> unit_to_rounding(const Quaternion<T>& q) {
-  using std::abs;
-  if (abs(q.squared_norm() - T(1)) <= T(4) * std::numeric_limits<T>::epsilon()) [[likely]]
+  if (is_unit_to_rounding(q.squared_norm())) [[likely]]
     return q;
   return q.normalized();
 }
@@ -87,14 +93,13 @@ Quaternion<T> slerp_shortest_values(const Quaternion<T>& a, const Quaternion<T>&
 }
 
 #if DQKIT_VECTOR_EXTENSIONS
-/// slerp on the shortest arc for float inputs that are unit to rounding (false, and `out` left as
-/// it is, where one is not: the general path normalizes it first), with the quaternion arithmetic
+/// slerp on the shortest arc for float inputs that are unit to rounding (nothing where one is not:
+/// the general path normalizes it first), with the quaternion arithmetic
 /// in the lanes of one vector: |a|², |b|², |a − b|², |a + b|² from one transpose, a · b, and the
 /// weighted sum, with the same operations in the same order as the general path (sums of squares
 /// left to right, as dot), so bit for bit its result; the weights are slerp_weights'.
-inline bool slerp_shortest_lanes(const Quaternion<float>& a, const Quaternion<float>& b, float t, InterpolationReport* report,
-                                 Quaternion<float>& out) {
-  using std::abs;
+inline std::optional<Quaternion<float>> slerp_shortest_lanes(const Quaternion<float>& a, const Quaternion<float>& b, float t,
+                                                             InterpolationReport* report) {
   using std::sqrt;
   const float4 va = to_lanes(a), vb = to_lanes(b);
   const float4 d = va - vb, s = va + vb, p0 = va * va, p1 = vb * vb, p2 = d * d, p3 = s * s;
@@ -104,19 +109,14 @@ inline bool slerp_shortest_lanes(const Quaternion<float>& a, const Quaternion<fl
   const float4 squares = ((__builtin_shufflevector(t0, t2, 0, 1, 4, 5) + __builtin_shufflevector(t0, t2, 2, 3, 6, 7)) +
                           __builtin_shufflevector(t1, t3, 0, 1, 4, 5)) +
                          __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
-  constexpr float tolerance = 4 * std::numeric_limits<float>::epsilon();  // as unit_to_rounding
-  if (!(abs(squares[0] - 1.0f) <= tolerance) || !(abs(squares[1] - 1.0f) <= tolerance)) return false;
+  if (!is_unit_to_rounding(squares[0]) || !is_unit_to_rounding(squares[1])) return std::nullopt;
   const float4 ab = va * vb;
   const float d_ab = ((ab[0] + ab[1]) + ab[2]) + ab[3];
   if (report) report->ambiguous = d_ab == 0.0f;
   const bool flip = d_ab < 0.0f;  // then b is −b: its chords swap
-  if (t == 1.0f) {
-    out = flip ? -b : b;
-    return true;
-  }
+  if (t == 1.0f) return flip ? -b : b;
   const auto [wa, wb] = slerp_weights(sqrt(squares[flip ? 3 : 2]), [&] { return sqrt(squares[flip ? 2 : 3]); }, t);
-  out = from_lanes(va * wa + vb * (flip ? -wb : wb));
-  return true;
+  return from_lanes(va * wa + vb * (flip ? -wb : wb));
 }
 #endif
 }  // namespace detail
@@ -139,8 +139,7 @@ Quaternion<T> slerp(const Quaternion<T>& a, const Quaternion<T>& b, const std::t
     if (path == Path::shortest) {
 #if DQKIT_VECTOR_EXTENSIONS
       if constexpr (std::is_same_v<T, float>) {
-        Quaternion<float> out;
-        if (detail::slerp_shortest_lanes(a, b, t, report, out)) return out;
+        if (const auto q = detail::slerp_shortest_lanes(a, b, t, report)) return *q;
       }
 #endif
       const Quaternion<T> ua = detail::unit_to_rounding(a), ub = detail::unit_to_rounding(b);
