@@ -149,6 +149,60 @@ TEST(Slerp, FloatLanesAreTheGeneralPathBitForBit) {
   }
 }
 
+#if DQKIT_VECTOR_EXTENSIONS
+// Float slerp's angles come from polynomials evaluated in double (detail::chord_angle,
+// detail::sin_to_quarter_turn; coefficients from scripts/fit_slerp_polynomials.py). Against long
+// double asin and sin on dense grids over their ranges (and a little past the ends, where rounding
+// may put an argument): within 1/64 of a float ulp, so they add nothing visible to float results.
+TEST(Slerp, FloatAnglePolynomialsAreFarBelowAFloatUlp) {
+  const long double bound = std::numeric_limits<float>::epsilon() / 64.0L;
+  const double chord_top = 2 * std::sin(kPi / 8) * 1.0001, angle_top = kPi / 2 * 1.0001;
+  for (int i = 1; i <= 100000; ++i) {
+    const double z = chord_top * i / 100000;
+    const long double want = 2 * std::asin(static_cast<long double>(z) / 2);
+    ASSERT_LE(std::abs((detail::chord_angle(z) - want) / want), bound) << z;
+    const double y = angle_top * i / 100000;
+    const detail::double2 got = detail::sin_to_quarter_turn(detail::double2{y, -y});
+    ASSERT_LE(std::abs((got[0] - std::sin(static_cast<long double>(y))) / std::sin(static_cast<long double>(y))), bound) << y;
+    ASSERT_EQ(got[1], -got[0]) << y;  // odd
+  }
+}
+
+// The float weights against their formula evaluated in long double with libm, from the same float
+// chords z = |a − b| and o = |a + b|: Ω/2 = asin(z/2) or π/4 − asin(r/2) for r = (o − z)/√2,
+// whichever argument is smaller, and weights sin((1 − t)Ω), sin(tΩ) times 2/(z o). Each weight is
+// the reference faithfully rounded (one of the two floats around it: the double arithmetic and
+// the polynomials add under 1/64 ulp), over Ω from 1e-7 to π/2 and t in (0, 1) and beyond; at
+// t = 0 exactly (1, 0), and at z = 0, (1 − t, t). (The formula itself is checked against the
+// textbook slerp in long double above.)
+TEST(Slerp, FloatWeightsAreTheirLongDoubleFormulaRounded) {
+  Random rng(212);
+  const long double pi = 3.141592653589793238462643383279502884L;
+  int nearest = 0;
+  const int count = 200000;
+  for (int n = 0; n < count; ++n) {
+    const long double omega = n % 100 == 0 ? pi / 2 : std::pow(10.0L, rng.uniform<long double>(-7, std::log10(pi / 2)));
+    const float z = static_cast<float>(2 * std::sin(omega / 2)), o = static_cast<float>(2 * std::cos(omega / 2));
+    const float t = static_cast<float>(n % 10 == 0 ? rng.uniform(-1.0, 2.0) : rng.uniform(0.0, 1.0));
+    const long double zl = z, ol = o, r = (ol - zl) / std::sqrt(2.0L);
+    const long double angle = zl <= r ? 2 * std::asin(zl / 2) : pi / 2 - 2 * std::asin(r / 2);
+    const std::array<long double, 2> want = {std::sin((1 - static_cast<long double>(t)) * angle) * 2 / (zl * ol),
+                                             std::sin(t * angle) * 2 / (zl * ol)};
+    const auto [wa, wb] = detail::slerp_weights_float(z, o, t);
+    for (const auto& [got, exact] : {std::pair{wa, want[0]}, std::pair{wb, want[1]}}) {
+      const float rounded = static_cast<float>(exact);
+      const float other = std::nextafter(rounded, static_cast<long double>(rounded) < exact ? INFINITY : -INFINITY);
+      ASSERT_TRUE(got == rounded || got == other) << "Ω " << static_cast<double>(omega) << " t " << t << ": " << got << " against "
+                                                  << static_cast<double>(exact);
+      nearest += got == rounded;
+    }
+  }
+  RecordProperty("rounded_to_nearest_percent", std::to_string(100.0 * nearest / (2 * count)));
+  EXPECT_EQ(detail::slerp_weights_float(0.7f, 1.8f, 0.0f), (std::pair{1.0f, 0.0f}));
+  EXPECT_EQ(detail::slerp_weights_float(0.0f, 2.0f, 0.25f), (std::pair{0.75f, 0.25f}));
+}
+#endif
+
 // slerp takes inputs that are unit to rounding (|q|² within 4 ε of 1) as they are and normalizes
 // the others: either way the result is the slerp of the normalized inputs, here against long
 // double, for inputs exactly unit in long double, rounded to float, and scaled off unit.
