@@ -339,12 +339,19 @@ static_assert(sizeof(Quaternion<float>) == sizeof(float4) && std::is_standard_la
 /// so each lane is the scalar formula's value, up to the sign of an exact zero). Written with the
 /// compiler's generic vector extensions, not with intrinsics of one instruction set: the same
 /// source serves every target a translation unit is compiled for (docs/design.md).
+/// The product's sum from a's components (each in every lane) and b's signed permutations, in that
+/// order of operations; also used by the eight-lane dual quaternion product (dual_product_lanes).
+template <class V>
+[[gnu::always_inline]] inline V hamilton_sum(const V& aw, const V& ax, const V& ay, const V& az, const V& b, const V& b1,
+                                             const V& b2, const V& b3) noexcept {
+  return (aw * b + ax * b1) + (ay * b2 + az * b3);
+}
 [[gnu::always_inline]] inline float4 hamilton_lanes(const float4& va, const float4& vb) noexcept {
   const float4 b1 = __builtin_shufflevector(vb, vb, 1, 0, 3, 2) * float4{-1, 1, -1, 1};
   const float4 b2 = __builtin_shufflevector(vb, vb, 2, 3, 0, 1) * float4{-1, 1, 1, -1};
   const float4 b3 = __builtin_shufflevector(vb, vb, 3, 2, 1, 0) * float4{-1, -1, 1, 1};
-  return (__builtin_shufflevector(va, va, 0, 0, 0, 0) * vb + __builtin_shufflevector(va, va, 1, 1, 1, 1) * b1) +
-         (__builtin_shufflevector(va, va, 2, 2, 2, 2) * b2 + __builtin_shufflevector(va, va, 3, 3, 3, 3) * b3);
+  return hamilton_sum(__builtin_shufflevector(va, va, 0, 0, 0, 0), __builtin_shufflevector(va, va, 1, 1, 1, 1),
+                      __builtin_shufflevector(va, va, 2, 2, 2, 2), __builtin_shufflevector(va, va, 3, 3, 3, 3), vb, b1, b2, b3);
 }
 inline Quaternion<float> hamilton_lanes(const Quaternion<float>& a, const Quaternion<float>& b) noexcept {
   return from_lanes(hamilton_lanes(to_lanes(a), to_lanes(b)));
