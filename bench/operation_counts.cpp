@@ -149,7 +149,9 @@ int main(int argc, char** argv) {
   weights need 2 divisions each or 1 reciprocal and 2 multiplications. Measured: the textbook formula
   above. dqkit's slerp of plain values (its inputs normalized against drift, Ω = 2 asin(|a − b|/2),
   the weights from one sincos, their series at small Ω) costs more, and in exchange has no failure
-  case (docs/interpolation.md); derivative types take a · exp(t · log(a* b)).
+  case (docs/interpolation.md); derivative types take a · exp(t · log(a* b)). The count is of the
+  generic code; float computes the same weights with two polynomials in double instead of asin and
+  sincos (docs/interpolation.md).
 - **K.** sclerp is a product, a logarithm, an exponential and another product of dual quaternions.
 - **L.** Renormalization: a dual quaternion needs one square root and a handful of products; a drifted
   rotation matrix needs Gram–Schmidt (three normalizations and a cross product) or polar iterations,

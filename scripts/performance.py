@@ -1,7 +1,10 @@
 #!/usr/bin/python3
 """Runs the benchmark suite and regenerates docs/performance.md and docs/performance.png.
 
-    /usr/bin/python3 scripts/performance.py [BUILD_DIR]      (default build/release)
+    /usr/bin/python3 scripts/performance.py [BUILD_DIR]      (default build/release, configured)
+
+It builds bench_batch and bench_core in BUILD_DIR first, and bench_core with -mavx2 -mfma in
+build/bench-avx2.
 
 Each benchmark binary runs once, with 3 repetitions; the page shows medians, and every ratio is
 taken between two cases of the same run (these machines are shared and noisy). The raw results are
@@ -75,6 +78,9 @@ def build_avx2():
 
 
 def main(build):
+    # Brought up to date first: a binary older than the sources would be measured as if it were them.
+    subprocess.run(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_batch", "bench_core"],
+                   check=True, capture_output=True)
     batch, core, core_avx2 = run(build, "bench_batch"), run(build, "bench_core"), run(build_avx2(), "bench_core")
     with open(os.path.join(ROOT, "docs", "performance.json"), "w") as f:
         json.dump({"bench_batch": batch, "bench_core": core, "bench_core_avx2": core_avx2}, f, indent=1)

@@ -47,7 +47,7 @@ template <class T, class Mul>
 constexpr DualQuaternion<T> dual_product(const DualQuaternion<T>& a, const DualQuaternion<T>& b, Mul mul) noexcept {
   return {mul(a.real, b.real), mul(a.real, b.dual) + mul(a.dual, b.real)};
 }
-#if DQKIT_VECTOR_EXTENSIONS && defined(__AVX__)
+#if DQKIT_VECTOR_EXTENSIONS && DQKIT_PRODUCT_EIGHT_LANES
 [[gnu::always_inline]] inline DualQuaternion<float> dual_product_lanes(const DualQuaternion<float>& a,
                                                                        const DualQuaternion<float>& b) noexcept;
 #endif
@@ -107,13 +107,13 @@ struct DualQuaternion {
   }
   /// The product: q_r = a_r b_r, q_d = a_r b_d + a_d b_r (three Hamilton products). For float
   /// the products and the dual part's sum stay in vector registers, four lanes at a time, or
-  /// eight where the build targets AVX (detail::dual_product_lanes); bit-identical either way: the
-  /// same operations in the same order per component.
+  /// eight where the build targets AVX (DQKIT_PRODUCT_EIGHT_LANES, detail::dual_product_lanes);
+  /// bit-identical either way: the same operations in the same order per component.
   friend constexpr DualQuaternion operator*(const DualQuaternion& a, const DualQuaternion& b) noexcept {
 #if DQKIT_VECTOR_EXTENSIONS
     if constexpr (std::is_same_v<T, float>) {
       if (!std::is_constant_evaluated()) {
-#if defined(__AVX__)
+#if DQKIT_PRODUCT_EIGHT_LANES
         return detail::dual_product_lanes(a, b);
 #else
         const auto ar = detail::to_lanes(a.real), ad = detail::to_lanes(a.dual);
@@ -251,14 +251,13 @@ struct DualQuaternion {
 };
 
 namespace detail {
-#if DQKIT_VECTOR_EXTENSIONS && defined(__AVX__)
+#if DQKIT_VECTOR_EXTENSIONS && DQKIT_PRODUCT_EIGHT_LANES
 /// The float product with AVX's eight lanes: (a_r b_r, a_r b_d) as one eight-lane Hamilton product
 /// of a_r's components (broadcast from memory) with b's signed permutations, whose low halves then
 /// serve a_d b_r; the same operations in the same order as the four-lane form, so bit for bit
-/// its result. 33 instructions per product against 43 (callgrind, bench/instruction_counts), and
-/// 0.86–0.94 × GLM `dualquat`'s time in bench_core's throughput case, against 1.27–1.42 × with
-/// four lanes; in a chain (x = x · a) the broadcasts come from registers and cross lanes, 6.1 µs
-/// per 1024 links against 4.7, still 0.74 × GLM's (docs/performance.md).
+/// its result. Faster for independent products (DQKIT_PRODUCT_EIGHT_LANES); in a chain (x = x · a)
+/// the broadcasts come from registers and cross lanes, and the chain is slower than with four
+/// lanes, still faster than GLM's (6.2 against 4.7 µs per 1024 links, GLM 8.3; docs/performance.md).
 [[gnu::always_inline]] inline DualQuaternion<float> dual_product_lanes(const DualQuaternion<float>& a,
                                                                        const DualQuaternion<float>& b) noexcept {
   static_assert(sizeof(DualQuaternion<float>) == 8 * sizeof(float) && std::is_trivially_copyable_v<DualQuaternion<float>>,
