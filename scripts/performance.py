@@ -24,9 +24,16 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ARGS = ["--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true", "--benchmark_format=json"]
 
 
+def quiet(command):
+    """Runs a command with its output kept back unless it fails; then prints it and stops."""
+    done = subprocess.run(command, capture_output=True, text=True)
+    if done.returncode != 0:
+        sys.exit(f"performance.py: {' '.join(command)} failed:\n{done.stdout}{done.stderr}")
+    return done.stdout
+
+
 def run(build, name):
-    out = subprocess.run([os.path.join(build, "bench", name)] + ARGS, check=True, capture_output=True, text=True)
-    return json.loads(out.stdout)
+    return json.loads(quiet([os.path.join(build, "bench", name)] + ARGS))
 
 
 def medians(result):
@@ -70,17 +77,15 @@ def one_at_a_time(add, c, build):
 def build_avx2():
     """bench_core built with -mavx2 -mfma (the one-at-a-time types must stay fast there too)."""
     build = os.path.join(ROOT, "build", "bench-avx2")
-    subprocess.run(["cmake", "-S", ROOT, "-B", build, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_FLAGS=-mavx2 -mfma",
-                    "-DDQKIT_BUILD_TESTS=OFF", "-DDQKIT_BUILD_PYTHON=OFF", "-DDQKIT_BUILD_DEMOS=OFF", "-DDQKIT_BUILD_TOOLS=OFF",
-                    "-DDQKIT_BUILD_EXAMPLES=OFF"], check=True, capture_output=True)
-    subprocess.run(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_core"], check=True, capture_output=True)
+    quiet(["cmake", "-S", ROOT, "-B", build, "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_FLAGS=-mavx2 -mfma", "-DDQKIT_BUILD_TESTS=OFF",
+           "-DDQKIT_BUILD_PYTHON=OFF", "-DDQKIT_BUILD_DEMOS=OFF", "-DDQKIT_BUILD_TOOLS=OFF", "-DDQKIT_BUILD_EXAMPLES=OFF"])
+    quiet(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_core"])
     return build
 
 
 def main(build):
     # Brought up to date first: a binary older than the sources would be measured as if it were them.
-    subprocess.run(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_batch", "bench_core"],
-                   check=True, capture_output=True)
+    quiet(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_batch", "bench_core"])
     batch, core, core_avx2 = run(build, "bench_batch"), run(build, "bench_core"), run(build_avx2(), "bench_core")
     with open(os.path.join(ROOT, "docs", "performance.json"), "w") as f:
         json.dump({"bench_batch": batch, "bench_core": core, "bench_core_avx2": core_avx2}, f, indent=1)

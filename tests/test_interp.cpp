@@ -155,15 +155,16 @@ TEST(Slerp, FloatLanesAreTheGeneralPathBitForBit) {
 // double asin and sin on dense grids over their ranges (and a little past the ends, where rounding
 // may put an argument): within 1/64 of a float ulp, so they add nothing visible to float results.
 TEST(Slerp, FloatAnglePolynomialsAreFarBelowAFloatUlp) {
-  const long double bound = std::numeric_limits<float>::epsilon() / 64.0L;
+  const long double bound = static_cast<long double>(std::numeric_limits<float>::epsilon()) / 64;
   const double chord_top = 2 * std::sin(kPi / 8) * 1.0001, angle_top = kPi / 2 * 1.0001;
   for (int i = 1; i <= 100000; ++i) {
     const double z = chord_top * i / 100000;
     const long double want = 2 * std::asin(static_cast<long double>(z) / 2);
-    ASSERT_LE(std::abs((detail::chord_angle(z) - want) / want), bound) << z;
+    ASSERT_LE(std::abs((static_cast<long double>(detail::chord_angle(z)) - want) / want), bound) << z;
     const double y = angle_top * i / 100000;
     const detail::double2 got = detail::sin_to_quarter_turn(detail::double2{y, -y});
-    ASSERT_LE(std::abs((got[0] - std::sin(static_cast<long double>(y))) / std::sin(static_cast<long double>(y))), bound) << y;
+    const long double sine = std::sin(static_cast<long double>(y));
+    ASSERT_LE(std::abs((static_cast<long double>(got[0]) - sine) / sine), bound) << y;
     ASSERT_EQ(got[1], -got[0]) << y;  // odd
   }
 }
@@ -172,22 +173,26 @@ TEST(Slerp, FloatAnglePolynomialsAreFarBelowAFloatUlp) {
 // chords z = |a − b| and o = |a + b|: Ω/2 = asin(z/2) or π/4 − asin(r/2) for r = (o − z)/√2,
 // whichever argument is smaller, and weights sin((1 − t)Ω), sin(tΩ) times 2/(z o). Each weight is
 // the reference faithfully rounded (one of the two floats around it: the double arithmetic and
-// the polynomials add under 1/64 ulp), over Ω from 1e-7 to π/2 and t in (0, 1) and beyond; at
-// t = 0 exactly (1, 0), and at z = 0, (1 − t, t). (The formula itself is checked against the
-// textbook slerp in long double above.)
+// the polynomials add under 1/64 ulp), over Ω from 1e-7 to π/2 and t in [−1, 2] (farther out, a
+// weight near a zero of its sine is only as accurate as Ω absolutely); also at Ω = π/2 with the
+// chords rounded across each other (o < z: a · b ≈ 0), where Ω comes out just above π/2; at t = 0
+// exactly (1, 0), and at z = 0, (1 − t, t). (The formula itself is checked against the textbook
+// slerp in long double above.)
 TEST(Slerp, FloatWeightsAreTheirLongDoubleFormulaRounded) {
   Random rng(212);
   const long double pi = 3.141592653589793238462643383279502884L;
   int nearest = 0;
   const int count = 200000;
   for (int n = 0; n < count; ++n) {
-    const long double omega = n % 100 == 0 ? pi / 2 : std::pow(10.0L, rng.uniform<long double>(-7, std::log10(pi / 2)));
-    const float z = static_cast<float>(2 * std::sin(omega / 2)), o = static_cast<float>(2 * std::cos(omega / 2));
+    const long double omega = n % 100 <= 2 ? pi / 2 : std::pow(10.0L, rng.uniform<long double>(-7, std::log10(pi / 2)));
+    float z = static_cast<float>(2 * std::sin(omega / 2)), o = static_cast<float>(2 * std::cos(omega / 2));
+    if (n % 100 == 1) z = std::nextafter(o, 2.0f);
+    if (n % 100 == 2) o = std::nextafter(z, 0.0f);
     const float t = static_cast<float>(n % 10 == 0 ? rng.uniform(-1.0, 2.0) : rng.uniform(0.0, 1.0));
-    const long double zl = z, ol = o, r = (ol - zl) / std::sqrt(2.0L);
+    const long double zl = static_cast<long double>(z), ol = static_cast<long double>(o), r = (ol - zl) / std::sqrt(2.0L);
     const long double angle = zl <= r ? 2 * std::asin(zl / 2) : pi / 2 - 2 * std::asin(r / 2);
     const std::array<long double, 2> want = {std::sin((1 - static_cast<long double>(t)) * angle) * 2 / (zl * ol),
-                                             std::sin(t * angle) * 2 / (zl * ol)};
+                                             std::sin(static_cast<long double>(t) * angle) * 2 / (zl * ol)};
     const auto [wa, wb] = detail::slerp_weights_float(z, o, t);
     for (const auto& [got, exact] : {std::pair{wa, want[0]}, std::pair{wb, want[1]}}) {
       const float rounded = static_cast<float>(exact);

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <ostream>
 
@@ -257,11 +258,12 @@ namespace detail {
 /// serve a_d b_r; the same operations in the same order as the four-lane form, so bit for bit
 /// its result. Faster for independent products (DQKIT_PRODUCT_EIGHT_LANES); in a chain (x = x · a)
 /// the broadcasts come from registers and cross lanes, and the chain is slower than with four
-/// lanes, still faster than GLM's (6.2 against 4.7 µs per 1024 links, GLM 8.3; docs/performance.md).
+/// lanes, still faster than GLM's (6.2 against 4.7 µs per 1024 links, GLM's 8.3–8.7; docs/performance.md).
 [[gnu::always_inline]] inline DualQuaternion<float> dual_product_lanes(const DualQuaternion<float>& a,
                                                                        const DualQuaternion<float>& b) noexcept {
-  static_assert(sizeof(DualQuaternion<float>) == 8 * sizeof(float) && std::is_trivially_copyable_v<DualQuaternion<float>>,
-                "the eight-lane product copies a dual quaternion as eight floats");
+  static_assert(sizeof(DualQuaternion<float>) == 8 * sizeof(float) && std::is_trivially_copyable_v<DualQuaternion<float>> &&
+                    std::is_standard_layout_v<DualQuaternion<float>> && offsetof(DualQuaternion<float>, dual) == 4 * sizeof(float),
+                "the eight-lane product copies a dual quaternion as eight floats, real part first");
   using float8 = float __attribute__((vector_size(32)));
   const auto all8 = [](float v) { return float8{v, v, v, v, v, v, v, v}; };
   const auto all4 = [](float v) { return float4{v, v, v, v}; };

@@ -333,12 +333,6 @@ static_assert(sizeof(Quaternion<float>) == sizeof(float4) && std::is_standard_la
   std::memcpy(static_cast<void*>(&q), &v, sizeof v);  // trivially copyable (std::bit_cast made GCC keep chains in memory)
   return q;
 }
-/// detail::hamilton with the four components in the lanes of one vector: r = (a_w b
-/// + a_x (−b_x, b_w, −b_z, b_y)) + (a_y (−b_y, b_z, b_w, −b_x) + a_z (−b_z, −b_y, b_x, b_w)), summed
-/// in the scalar formula's pairs (x − y and x + (−y) round alike, as do (−x) + (−y) and −(x + y),
-/// so each lane is the scalar formula's value, up to the sign of an exact zero). Written with the
-/// compiler's generic vector extensions, not with intrinsics of one instruction set: the same
-/// source serves every target a translation unit is compiled for (docs/design.md).
 /// The product's sum from a's components (each in every lane) and b's signed permutations, in that
 /// order of operations; also used by the eight-lane dual quaternion product (dual_product_lanes).
 template <class V>
@@ -346,6 +340,12 @@ template <class V>
                                              const V& b2, const V& b3) noexcept {
   return (aw * b + ax * b1) + (ay * b2 + az * b3);
 }
+/// detail::hamilton with the four components in the lanes of one vector: r = (a_w b
+/// + a_x (−b_x, b_w, −b_z, b_y)) + (a_y (−b_y, b_z, b_w, −b_x) + a_z (−b_z, −b_y, b_x, b_w)), summed
+/// in the scalar formula's pairs (x − y and x + (−y) round alike, as do (−x) + (−y) and −(x + y),
+/// so each lane is the scalar formula's value, up to the sign of an exact zero). Written with the
+/// compiler's generic vector extensions, not with intrinsics of one instruction set: the same
+/// source serves every target a translation unit is compiled for (docs/design.md).
 [[gnu::always_inline]] inline float4 hamilton_lanes(const float4& va, const float4& vb) noexcept {
   const float4 b1 = __builtin_shufflevector(vb, vb, 1, 0, 3, 2) * float4{-1, 1, -1, 1};
   const float4 b2 = __builtin_shufflevector(vb, vb, 2, 3, 0, 1) * float4{-1, 1, 1, -1};

@@ -46,6 +46,8 @@
 #else
 #define DQKIT_PRODUCT_EIGHT_LANES 0
 #endif
+#elif DQKIT_PRODUCT_EIGHT_LANES && !(DQKIT_VECTOR_EXTENSIONS && defined(__AVX__))
+#error "DQKIT_PRODUCT_EIGHT_LANES=1 needs vector extensions and a build that targets AVX"
 #endif
 
 namespace dq {

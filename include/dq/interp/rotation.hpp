@@ -86,7 +86,8 @@ std::pair<T, T> slerp_weights(const T& chord, Opposite opposite_chord, const T& 
 using double2 = double __attribute__((vector_size(16)));
 
 // Float slerp's angles in double by polynomials, instead of libm's asinf and sincosf (two calls that
-// ran one after the other, with the values live across them spilled: 5 ns of Eigen's 17 per slerp).
+// ran one after the other, with the values live across them spilled: about 12 ns of the 20 a float
+// slerp took, docs/performance.md).
 // The coefficients are least-squares fits at Chebyshev nodes (scripts/fit_slerp_polynomials.py);
 // each function's relative error, below 6e-10, is under 1/200 of a float ulp, so the float weights
 // round as if from the exact functions to within that (tests/test_interp.cpp checks 1/64).
@@ -110,14 +111,17 @@ inline double chord_angle(double z) {
 /// slerp_weights for float, from both chords (|a − b| = 2 sin(Ω/2) and |a + b| = 2 cos(Ω/2)), in
 /// double. Ω/2 ≤ π/4 is asin of the smaller of sin(Ω/2) and sin(π/4 − Ω/2) = (cos(Ω/2) − sin(Ω/2))/√2,
 /// both at most sin(π/8), picked without a branch (random pairs would mispredict it); sin Ω =
-/// |a − b| |a + b| / 2 from the chords, exact in double, so no division waits for the angle. At t = 0
+/// |a − b| |a + b| / 2 from the chords (their product exact in double), so no division waits for
+/// the angle. Where rounding puts |a + b| below |a − b| (a · b ≈ 0), sin(π/4 − Ω/2) is negative and
+/// Ω just above π/2. At t = 0
 /// the weights are (1, 0) exactly (as t = 1 returns b); at Ω = 0, (1 − t, t).
 inline std::pair<float, float> slerp_weights_float(float chord, float opposite_chord, float t) {
   if (t == 0.0f) return {1.0f, 0.0f};
   if (chord == 0.0f) return {1.0f - t, t};
-  const double z = chord, rest = (double(opposite_chord) - z) * 0.70710678118654752440;  // 2 sin(π/4 − Ω/2)
+  const double z = static_cast<double>(chord), rest = (static_cast<double>(opposite_chord) - z) * 0.70710678118654752440;  // 2 sin(π/4 − Ω/2)
   const double angle = chord_angle(std::min(z, rest));
-  const double omega = std::copysign(angle, rest - z) + std::numbers::pi / 2 * static_cast<double>(z > rest);
+  const double far = static_cast<double>(z > rest);                    // 1: Ω = π/2 − 2 asin(rest/2)
+  const double omega = angle * (1 - 2 * far) + std::numbers::pi / 2 * far;  // the sign flip is exact
   const double inverse_sine = 2 / (z * double(opposite_chord));
   const double2 angles = double2{1.0 - double(t), double(t)} * omega;
   double2 sines;
