@@ -193,7 +193,7 @@ TEST(Slerp, FloatWeightsAreTheirLongDoubleFormulaRounded) {
     const long double angle = zl <= r ? 2 * std::asin(zl / 2) : pi / 2 - 2 * std::asin(r / 2);
     const std::array<long double, 2> want = {std::sin((1 - static_cast<long double>(t)) * angle) * 2 / (zl * ol),
                                              std::sin(static_cast<long double>(t) * angle) * 2 / (zl * ol)};
-    const auto [wa, wb] = detail::slerp_weights_float(z, o, t);
+    const auto [wa, wb] = detail::slerp_weights(z, o, t);
     for (const auto& [got, exact] : {std::pair{wa, want[0]}, std::pair{wb, want[1]}}) {
       const float rounded = static_cast<float>(exact);
       const float other = std::nextafter(rounded, static_cast<long double>(rounded) < exact ? INFINITY : -INFINITY);
@@ -203,8 +203,8 @@ TEST(Slerp, FloatWeightsAreTheirLongDoubleFormulaRounded) {
     }
   }
   RecordProperty("rounded_to_nearest_percent", std::to_string(100.0 * nearest / (2 * count)));
-  EXPECT_EQ(detail::slerp_weights_float(0.7f, 1.8f, 0.0f), (std::pair{1.0f, 0.0f}));
-  EXPECT_EQ(detail::slerp_weights_float(0.0f, 2.0f, 0.25f), (std::pair{0.75f, 0.25f}));
+  EXPECT_EQ(detail::slerp_weights(0.7f, 1.8f, 0.0f), (std::pair{1.0f, 0.0f}));
+  EXPECT_EQ(detail::slerp_weights(0.0f, 2.0f, 0.25f), (std::pair{0.75f, 0.25f}));
 }
 #endif
 

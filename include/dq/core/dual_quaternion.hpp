@@ -48,7 +48,7 @@ template <class T, class Mul>
 constexpr DualQuaternion<T> dual_product(const DualQuaternion<T>& a, const DualQuaternion<T>& b, Mul mul) noexcept {
   return {mul(a.real, b.real), mul(a.real, b.dual) + mul(a.dual, b.real)};
 }
-#if DQKIT_VECTOR_EXTENSIONS && DQKIT_PRODUCT_EIGHT_LANES
+#if DQKIT_PRODUCT_EIGHT_LANES
 [[gnu::always_inline]] inline DualQuaternion<float> dual_product_lanes(const DualQuaternion<float>& a,
                                                                        const DualQuaternion<float>& b) noexcept;
 #endif
@@ -252,7 +252,7 @@ struct DualQuaternion {
 };
 
 namespace detail {
-#if DQKIT_VECTOR_EXTENSIONS && DQKIT_PRODUCT_EIGHT_LANES
+#if DQKIT_PRODUCT_EIGHT_LANES
 /// The float product with AVX's eight lanes: (a_r b_r, a_r b_d) as one eight-lane Hamilton product
 /// of a_r's components (broadcast from memory) with b's signed permutations, whose low halves then
 /// serve a_d b_r; the same operations in the same order as the four-lane form, so bit for bit

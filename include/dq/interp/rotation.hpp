@@ -59,12 +59,12 @@ Quaternion<T> unit_to_rounding(const Quaternion<T>& q) {
 }
 
 /// The slerp weights (of a and of b) for unit a, b with a · b ≥ 0 from the chords |a − b| and
-/// |a + b| (the second is read only where Ω² ≥ √ε, so a caller may compute it lazily): the angle
-/// Ω between them is at most π/2 and Ω = 2 asin(|a − b|/2), accurate at every angle. The weights
-/// sin((1−t)Ω)/sin Ω and sin(tΩ)/sin Ω come from the sincos of tΩ and the two chords; for Ω² below
-/// √ε from their series t (1 + (1 − t²) Ω²/6), so nothing divides by a vanishing sine.
-template <class T, class Opposite>
-std::pair<T, T> slerp_weights(const T& chord, Opposite opposite_chord, const T& t) {
+/// |a + b|: the angle Ω between them is at most π/2 and Ω = 2 asin(|a − b|/2), accurate at every
+/// angle. The weights sin((1−t)Ω)/sin Ω and sin(tΩ)/sin Ω come from the sincos of tΩ and the two
+/// chords; for Ω² below √ε from their series t (1 + (1 − t²) Ω²/6), so nothing divides by a
+/// vanishing sine. Float has its own overload below.
+template <class T>
+std::pair<T, T> slerp_weights(const T& chord, const T& opposite, const T& t) {
   using std::asin;
   using std::cos;
   using std::min;
@@ -76,7 +76,6 @@ std::pair<T, T> slerp_weights(const T& chord, Opposite opposite_chord, const T& 
   }
   // sin((1−t)Ω) = sin Ω cos tΩ − cos Ω sin tΩ, with sin Ω = 2 sin(Ω/2) cos(Ω/2) and cos Ω =
   // cos²(Ω/2) − sin²(Ω/2) from the chords (|a − b| = 2 sin(Ω/2), |a + b| = 2 cos(Ω/2)).
-  const T opposite = opposite_chord();
   const T sin_omega = chord * opposite / T(2), cos_omega = (opposite * opposite - chord * chord) / T(4);
   const T wb = sin(t * omega) / sin_omega;
   return {cos(t * omega) - cos_omega * wb, wb};
@@ -108,14 +107,14 @@ inline double chord_angle(double z) {
   return z + z * z2 * p;
 }
 
-/// slerp_weights for float, from both chords (|a − b| = 2 sin(Ω/2) and |a + b| = 2 cos(Ω/2)), in
+/// slerp_weights for float (preferred to the template for float arguments), from both chords (|a − b| = 2 sin(Ω/2) and |a + b| = 2 cos(Ω/2)), in
 /// double. Ω/2 ≤ π/4 is asin of the smaller of sin(Ω/2) and sin(π/4 − Ω/2) = (cos(Ω/2) − sin(Ω/2))/√2,
 /// both at most sin(π/8), picked without a branch (random pairs would mispredict it); sin Ω =
 /// |a − b| |a + b| / 2 from the chords (their product exact in double), so no division waits for
 /// the angle. Where rounding puts |a + b| below |a − b| (a · b ≈ 0), sin(π/4 − Ω/2) is negative and
 /// Ω just above π/2. At t = 0
 /// the weights are (1, 0) exactly (as t = 1 returns b); at Ω = 0, (1 − t, t).
-inline std::pair<float, float> slerp_weights_float(float chord, float opposite_chord, float t) {
+inline std::pair<float, float> slerp_weights(float chord, float opposite_chord, float t) {
   if (t == 0.0f) return {1.0f, 0.0f};
   if (chord == 0.0f) return {1.0f - t, t};
   const double z = static_cast<double>(chord), rest = (static_cast<double>(opposite_chord) - z) * 0.70710678118654752440;  // 2 sin(π/4 − Ω/2)
@@ -136,19 +135,13 @@ inline std::pair<float, float> slerp_weights_float(float chord, float opposite_c
 #endif
 
 /// slerp on the shortest arc for plain values (no derivative parts), faster than the exp/log
-/// form (one asin and one sincos, slerp_weights; for float, slerp_weights_float): a and b unit with a · b ≥ 0.
+/// form (slerp_weights): a and b unit with a · b ≥ 0.
 template <class T>
 Quaternion<T> slerp_shortest_values(const Quaternion<T>& a, const Quaternion<T>& b, const T& t) {
   using std::sqrt;
   if (t == T(1)) return b;  // the endpoint exactly (a needs no test: its weights are then 1 and 0)
   const Quaternion<T> difference = a - b;
-#if DQKIT_VECTOR_EXTENSIONS
-  if constexpr (std::is_same_v<T, float>) {
-    const auto [wa, wb] = slerp_weights_float(sqrt(dot(difference, difference)), sqrt(dot(a + b, a + b)), t);
-    return a * wa + b * wb;
-  }
-#endif
-  const auto [wa, wb] = slerp_weights(sqrt(dot(difference, difference)), [&] { return sqrt(dot(a + b, a + b)); }, t);
+  const auto [wa, wb] = slerp_weights(sqrt(dot(difference, difference)), sqrt(dot(a + b, a + b)), t);
   return a * wa + b * wb;
 }
 
@@ -157,7 +150,7 @@ Quaternion<T> slerp_shortest_values(const Quaternion<T>& a, const Quaternion<T>&
 /// the general path normalizes it first), with the quaternion arithmetic
 /// in the lanes of one vector: |a|², |b|², |a − b|², |a + b|² from one transpose, a · b, and the
 /// weighted sum, with the same operations in the same order as the general path (sums of squares
-/// left to right, as dot), so bit for bit its result; the weights are slerp_weights_float's.
+/// left to right, as dot), so bit for bit its result; the weights are slerp_weights'.
 inline std::optional<Quaternion<float>> slerp_shortest_lanes(const Quaternion<float>& a, const Quaternion<float>& b, float t,
                                                              InterpolationReport* report) {
   using std::sqrt;
@@ -176,7 +169,7 @@ inline std::optional<Quaternion<float>> slerp_shortest_lanes(const Quaternion<fl
   const bool flip = d_ab < 0.0f;  // then b is −b: its chords swap
   if (t == 1.0f) return flip ? -b : b;
   const float minus = sqrt(squares[2]), plus = sqrt(squares[3]);
-  const auto [wa, wb] = slerp_weights_float(flip ? plus : minus, flip ? minus : plus, t);
+  const auto [wa, wb] = slerp_weights(flip ? plus : minus, flip ? minus : plus, t);
   return from_lanes(va * wa + vb * (flip ? -wb : wb));
 }
 #endif
