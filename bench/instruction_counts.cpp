@@ -122,6 +122,13 @@ int main(int argc, char** argv) {
          run(m, out, rounds, [&](const auto& t, std::size_t i) { return t * glm::vec4(points[i].x, points[i].y, points[i].z, 1); });
          sink = checksum(out);
        }},
+      {"point_glm_dualquat",
+       [&] {
+         const auto g = convert<glm::dualquat>(a, +glm_dq);
+         std::vector<glm::vec3> out(kCount);
+         run(g, out, rounds, [&](const auto& q, std::size_t i) { return q * glm::vec3(points[i].x, points[i].y, points[i].z); });
+         sink = checksum(out);
+       }},
       {"slerp_dqkit",
        [&] {
          std::vector<dq::Quaternion<float>> out(kCount);

@@ -135,7 +135,10 @@ int main(int argc, char** argv) {
 - **F.** The thesis' dual quaternion count is inconsistent with itself: its text derives
   3 · 2 · 16 + 10 = 110 multiplications, its final table prints 103. Both count six Hamilton products
   (the sandwich Q (1 + εp) Q̄ with full products); dqkit's sandwich, written generically over dual
-  quaternion products, measures the row above, and the direct form R p + t needs a fraction of it.
+  quaternion products, measures the row above, and the direct form R p + t needs a fraction of it:
+  with c = r × p + d for real part (w, r) and dual part (w_d, d), p + 2 [w c + r × c − w_d r]
+  shares one sum between the rotation and the translation (21 + 18; GLM's `dualquat * vec3`,
+  p + 2 [r × (r × p + w p + d) + w d − w_d r], takes 24 + 21).
 - **G.** The hyper-dual quaternion product is nine Hamilton products; the thesis' 312 = 9 · 2 · 16 + 24
   agrees in kind (two products for the sandwich). It buys nothing over dual quaternions for rigid
   transforms (the thesis' own conclusion, confirmed: the same point comes out, at several times the cost).

@@ -3,8 +3,8 @@
 
     /usr/bin/python3 scripts/performance.py [BUILD_DIR]      (default build/release, configured)
 
-It builds bench_batch and bench_core in BUILD_DIR first, and bench_core with -mavx2 -mfma in
-build/bench-avx2.
+It builds bench_batch, bench_core, bench_skin and bench_ik in BUILD_DIR first, and bench_core with
+-mavx2 -mfma in build/bench-avx2.
 
 Each benchmark binary runs once, with 3 repetitions; the page shows medians, and every ratio is
 taken between two cases of the same run (these machines are shared and noisy). The raw results are
@@ -32,8 +32,8 @@ def quiet(command):
     return done.stdout
 
 
-def run(build, name):
-    return json.loads(quiet([os.path.join(build, "bench", name)] + ARGS))
+def run(build, name, extra=()):
+    return json.loads(quiet([os.path.join(build, "bench", name)] + ARGS + list(extra)))
 
 
 def medians(result):
@@ -48,7 +48,7 @@ def fmt(x, unit=""):
 
 
 def ns(cases, name):
-    return cases[name]["real_time"] if cases[name]["time_unit"] == "ns" else cases[name]["real_time"] * 1e3
+    return cases[name]["real_time"] * {"ns": 1, "us": 1e3, "ms": 1e6, "s": 1e9}[cases[name]["time_unit"]]
 
 
 # One-at-a-time cases: dqkit's first, then its peers; each row's ratio is its time over the
@@ -83,13 +83,68 @@ def build_avx2():
     return build
 
 
+SKINNING = (("dqkit LBS", "dqkit_skinning/lbs"), ("**dqkit DQS**", "dqkit_skinning/dqs"), ("dqkit CoR", "dqkit_skinning/cor"),
+            ("GLM `mat4` LBS", "glm_lbs"), ("GLM `dualquat` DQS", "glm_dqs"), ("GLM `quat` CoR", "glm_cor"))
+
+
+def skinning_tables(add, s, context):
+    """bench_skin: each method's rate, its fraction of the triad of the same thread count, and the ratios
+    the performance issue sets targets for."""
+    add("")
+    add(f"### Skinning, {int(context['vertices']):,} vertices × 4 influences, positions and normals (bench_skin)")
+    add("The GLM peers are the plain per-vertex loops over arrays of structures, each checked once against "
+        "dqkit's result outside the timing; bytes per vertex: 80, 92 for CoR (its centre); the triad is measured "
+        "in the same binary before the cases (docs/skinning.md).")
+    for threads in (1, 2):
+        def case(name):
+            return s[f"{name}/{threads}/real_time"]
+        triad = float(context[f"triad_GBps_{threads}thread"]) * 1e9
+        lbs_time, glm_lbs, glm_dqs = ns(s, f"dqkit_skinning/lbs/{threads}/real_time"), case("glm_lbs"), case("glm_dqs")
+        add("")
+        add(f"| {threads} thread{'s' if threads > 1 else ''} | time per frame | vertices/s | bytes/s | ÷ triad ({fmt(triad, 'B/s')}) | "
+            "× GLM `mat4` LBS | × GLM `dualquat` DQS | time ÷ dqkit LBS |")
+        add("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+        for label, name in SKINNING:
+            r, t = case(name), ns(s, f"{name}/{threads}/real_time")
+            row = f"| {label} | {t / 1e6:.1f} ms | {fmt(r['vertices_per_s'])} |"
+            if name.startswith("dqkit"):
+                row += (f" {fmt(r['bytes_per_second'], 'B/s')} | {r['bytes_per_second'] / triad:.2f} | "
+                        f"{r['vertices_per_s'] / glm_lbs['vertices_per_s']:.2f} | {r['vertices_per_s'] / glm_dqs['vertices_per_s']:.2f} | "
+                        f"{t / lbs_time:.2f} |")
+            else:
+                row += " | | | | |"
+            add(row)
+
+
+IK = (("ArmDualQuaternionLM", "dqkit LM, dual quaternions, 7-DOF arm"), ("ArmMatrixLM", "dqkit LM, 4x4 matrices, arm"),
+      ("ArmDualQuaternionNewtonHyperDual", "dqkit Newton (hyper-dual Hessian), arm"),
+      ("ArmDualQuaternionGaussSeidel", "dqkit projected Gauss–Seidel, arm"),
+      ("ArmKdlLMA", "KDL `ChainIkSolverPos_LMA`, arm"), ("ArmKdlNRJL", "KDL `ChainIkSolverPos_NR_JL`, arm"),
+      ("BipedFourEffectors<IkSolver>", "dqkit LM, 36-DOF biped, four pose effectors, dual quaternions"),
+      ("BipedFourEffectors<MatrixIkSolver>", "dqkit LM, biped, 4x4 matrices"))
+
+
+def ik_table(add, k):
+    """bench_ik: solves per second and success, dqkit's solvers against KDL's on the same targets (docs/ik.md)."""
+    add("")
+    add("### Inverse kinematics (bench_ik, random interleaving; success within 1e-9 m and rad and the limits, docs/ik.md)")
+    add("| solver | solves/s | median µs per solve | iterations | success (1e-9) | × KDL LMA solves/s |")
+    add("| --- | ---: | ---: | ---: | ---: | ---: |")
+    lma = next(r for name, r in k.items() if name.startswith("ArmKdlLMA"))["solves_per_s"]
+    for prefix, label in IK:
+        r = next(r for name, r in k.items() if name.startswith(prefix + "/"))
+        add(f"| {label} | {r['solves_per_s']:,.0f} | {r['median_us']:.1f} | {r['iterations']:.1f} | "
+            f"{100 * r['success_rate']:.1f} % | {r['solves_per_s'] / lma:.2f} |")
+
+
 def main(build):
     # Brought up to date first: a binary older than the sources would be measured as if it were them.
-    quiet(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_batch", "bench_core"])
+    quiet(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_batch", "bench_core", "bench_skin", "bench_ik"])
     batch, core, core_avx2 = run(build, "bench_batch"), run(build, "bench_core"), run(build_avx2(), "bench_core")
+    skin, ik = run(build, "bench_skin"), run(build, "bench_ik", ["--benchmark_enable_random_interleaving=true"])
     with open(os.path.join(ROOT, "docs", "performance.json"), "w") as f:
-        json.dump({"bench_batch": batch, "bench_core": core, "bench_core_avx2": core_avx2}, f, indent=1)
-    b, c, c_avx2 = medians(batch), medians(core), medians(core_avx2)
+        json.dump({"bench_batch": batch, "bench_core": core, "bench_core_avx2": core_avx2, "bench_skin": skin, "bench_ik": ik}, f, indent=1)
+    b, c, c_avx2, s, k = medians(batch), medians(core), medians(core_avx2), medians(skin), medians(ik)
     ctx = batch["context"]
     copy1 = b["Copy/1/real_time"]["bytes_per_second"]
 
@@ -97,8 +152,9 @@ def main(build):
     add = lines.append
     add(f"Machine: {ctx['cpu_model']}, {ctx['num_cpus']} cores, last-level cache {ctx['llc_MB']} MB; widest dispatch "
         f"target: {ctx['simd_target']}; GCC 12, Release, portable flags (no `-march`). Command: "
-        "`/usr/bin/python3 scripts/performance.py` (runs `bench_batch` and `bench_core` with 3 repetitions, medians, "
-        "and `bench_core` again built with `-mavx2 -mfma` in build/bench-avx2; raw results in `docs/performance.json`).")
+        "`/usr/bin/python3 scripts/performance.py` (runs `bench_batch`, `bench_core`, `bench_skin` and `bench_ik` with 3 "
+        "repetitions, medians, and `bench_core` again built with `-mavx2 -mfma` in build/bench-avx2; raw results in "
+        "`docs/performance.json`).")
     add("")
     add("### The machine's limits (same run)")
     add("| measure | 1 thread | 2 threads |")
@@ -172,6 +228,8 @@ def main(build):
     add("")
     one_at_a_time(add, c, "portable build")
     one_at_a_time(add, c_avx2, "built with `-mavx2 -mfma`")
+    skinning_tables(add, s, skin["context"])
+    ik_table(add, k)
 
     page = os.path.join(ROOT, "docs", "performance.md")
     text = open(page).read()
@@ -183,7 +241,7 @@ def main(build):
         text = text.rstrip() + "\n\n## The batch kernels and the suite against the peers\n" + new + "\n"
     open(page, "w").write(text)
 
-    fig, ax = plt.subplots(1, 2, figsize=(13, 5))
+    fig, ax = plt.subplots(1, 3, figsize=(19, 5))
     names = ["10k ×64\n1 thread", "10k ×64\n2 threads", "100k ×64\n1 thread", "100k ×64\n2 threads"]
     cases = ["10000/1/real_time", "10000/2/real_time", "100000/1/real_time", "100000/2/real_time"]
     at = range(len(names))
@@ -206,12 +264,27 @@ def main(build):
               "to 3x4 matrices vs GLM dq": b["ToMatricesDispatched"]["per_s"] / b["ToMatricesGlmDualquat"]["per_s"],
               "normalize vs GLM dq": b["NormalizeDispatched"]["per_s"] / b["NormalizeGlmDualquat"]["per_s"],
               "dlb vs GLM dq": b["DlbDispatched"]["per_s"] / b["DlbGlmDualquat"]["per_s"],
-              "sclerp arrays vs scalar sclerp": b["SclerpDispatched"]["per_s"] / b["SclerpScalar"]["per_s"]}
+              "sclerp arrays vs scalar sclerp": b["SclerpDispatched"]["per_s"] / b["SclerpScalar"]["per_s"],
+              "DQS skinning vs GLM mat4 LBS": s["dqkit_skinning/dqs/1/real_time"]["vertices_per_s"] / s["glm_lbs/1/real_time"]["vertices_per_s"],
+              "DQS skinning vs GLM dualquat DQS": s["dqkit_skinning/dqs/1/real_time"]["vertices_per_s"] / s["glm_dqs/1/real_time"]["vertices_per_s"],
+              "IK LM vs KDL LMA (solves/s)": k["ArmDualQuaternionLM/iterations:2000"]["solves_per_s"] / k["ArmKdlLMA/iterations:2000"]["solves_per_s"]}
     ax[1].barh(list(ratios), list(ratios.values()))
     ax[1].axvline(1.0, color="grey", linestyle=":")
     ax[1].set_xscale("log")
     ax[1].set_xlabel("dqkit speed ÷ peer speed (same run)")
     ax[1].set_title("Ratios to the peers")
+    methods = (("LBS", "lbs"), ("DQS", "dqs"), ("CoR", "cor"))
+    for i, threads in enumerate((1, 2)):
+        triad = float(skin["context"][f"triad_GBps_{threads}thread"]) * 1e9
+        ax[2].bar([m + (i - 0.5) * 0.38 for m in range(len(methods))],
+                  [s[f"dqkit_skinning/{name}/{threads}/real_time"]["bytes_per_second"] / triad for _, name in methods], 0.38,
+                  label=f"{threads} thread{'s' if threads > 1 else ''}")
+    ax[2].set_xticks(range(len(methods)), [label for label, _ in methods])
+    ax[2].axhline(1.0, color="grey", linestyle=":")
+    ax[2].axhline(0.7, color="tab:red", linestyle="--", label="target for DQS (0.7)")
+    ax[2].set_ylabel("fraction of the triad bandwidth, same thread count")
+    ax[2].set_title("Skinning 1M+ vertices × 4, positions and normals")
+    ax[2].legend()
     fig.tight_layout()
     fig.savefig(os.path.join(ROOT, "docs", "performance.png"), dpi=80)
 

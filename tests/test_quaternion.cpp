@@ -295,10 +295,9 @@ TEST(Quaternion, EightLaneDualProductIsTheFourLaneOneBitForBit) {
                                                                                                 const Vec3<float>& p) {
   const Quaternion<float>& r = q.real;
   const Quaternion<float>& d = q.dual;
-  const float sx = ((r.y * p.z - r.z * p.y) + p.x * r.w) + d.x, sy = ((r.z * p.x - r.x * p.z) + p.y * r.w) + d.y,
-              sz = ((r.x * p.y - r.y * p.x) + p.z * r.w) + d.z;
-  return {p.x + (((r.y * sz - r.z * sy) + d.x * r.w) - r.x * d.w) * 2, p.y + (((r.z * sx - r.x * sz) + d.y * r.w) - r.y * d.w) * 2,
-          p.z + (((r.x * sy - r.y * sx) + d.z * r.w) - r.z * d.w) * 2};
+  const float cx = (r.y * p.z - r.z * p.y) + d.x, cy = (r.z * p.x - r.x * p.z) + d.y, cz = (r.x * p.y - r.y * p.x) + d.z;
+  return {p.x + ((cx * r.w + (r.y * cz - r.z * cy)) - r.x * d.w) * 2, p.y + ((cy * r.w + (r.z * cx - r.x * cz)) - r.y * d.w) * 2,
+          p.z + ((cz * r.w + (r.x * cy - r.y * cx)) - r.z * d.w) * 2};
 }
 
 TEST(Quaternion, FloatRotationAndPointTransformAreBitIdenticalToTheScalarFormulas) {

@@ -207,10 +207,11 @@ struct DualQuaternion {
     return (vd * real.w - vr * dual.w + cross(vr, vd)) * T(2);
   }
 
-  /// R p + t for a unit dual quaternion, in the short form that merges the translation into the
-  /// rotation's second cross product: with real part (w, r) and dual part (w_d, d),
-  /// p + 2 [r × (r × p + w p + d) + w d − w_d r]: 24 multiplications and 21 additions, where R p
-  /// and t computed apart take 33 multiplications and 24 additions (docs/operation-counts.md).
+  /// R p + t for a unit dual quaternion, in a short form that shares one sum between the rotation
+  /// and the translation: with real part (w, r) and dual part (w_d, d), c = r × p + d and
+  /// p + 2 [w c + r × c − w_d r]: 21 multiplications and 18 additions, where R p and t computed
+  /// apart take 33 and 24, and GLM's form, p + 2 [r × (r × p + w p + d) + w d − w_d r], 24 and 21
+  /// (docs/operation-counts.md).
   /// For float it may run x, y and z in the lanes of one vector (DQKIT_VEC3_LANES), bit-identical.
   constexpr Vec3<T> transform_point(const Vec3<T>& p) const noexcept {
 #if DQKIT_VEC3_LANES
@@ -219,14 +220,15 @@ struct DualQuaternion {
         using detail::float4, detail::cross_lanes;
         const detail::QuaternionParts r = detail::parts(detail::to_lanes(real)), d = detail::parts(detail::to_lanes(dual));
         const float4 vp = detail::to_lanes(p);
-        const float4 s = (cross_lanes(r, vp) + vp * r.w) + d.xyz;
-        const float4 u = (cross_lanes(r, s) + d.xyz * r.w) - r.xyz * d.w;
+        const float4 c = cross_lanes(r, vp) + d.xyz;
+        const float4 u = (c * r.w + cross_lanes(r, c)) - r.xyz * d.w;
         return detail::vec3_from_lanes(vp + u * float4{2, 2, 2, 2});
       }
     }
 #endif
     const Vec3<T> r = real.vec(), d = dual.vec();
-    return p + (cross(r, cross(r, p) + p * real.w + d) + d * real.w - r * dual.w) * T(2);
+    const Vec3<T> c = cross(r, p) + d;
+    return p + (c * real.w + cross(r, c) - r * dual.w) * T(2);
   }
   /// Q (1 + ε p) Q̄ taken literally (the seeds' definition; slower, used as the reference form).
   constexpr Vec3<T> transform_point_sandwich(const Vec3<T>& p) const noexcept {
