@@ -27,11 +27,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   check(bvh->motion.size() <= size, "no more values than the text can hold");
-  const std::string written = dq::write_bvh(*bvh);
+  const dq::Expected<std::string> text_written = dq::write_bvh(*bvh);
+  check(text_written.has_value(), "every file the reader accepts is writable");
+  const std::string& written = *text_written;
   const dq::Expected<dq::BvhFile> again = dq::read_bvh(written, "written");
   check(again.has_value(), "written file reads back");
   check(again->motion == bvh->motion && again->joints.size() == bvh->joints.size(), "round trip is exact");
-  check(dq::write_bvh(*again) == written, "writer output is a fixed point");
+  check(dq::write_bvh(*again).value() == written, "writer output is a fixed point");
   check(written.size() <= 64 * size + 4096, "written text linear in the input");  // indentation is capped
   // The path of the tool: load (with its memory budget) and convert.
   dq::MotionOptions options;
@@ -47,11 +49,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const dq::Expected<dq::BvhFile> converted = dq::with_rotation_order(*bvh, order);
   check(converted.has_value(), "Tait-Bryan orders convert");
   for (double v : converted->motion) check(std::isfinite(v), "converted angles are finite");
-  check(dq::read_bvh(dq::write_bvh(*converted), "converted").has_value(), "converted file reads back");
+  const dq::Expected<std::string> converted_text = dq::write_bvh(*converted);
+  check(converted_text.has_value() && dq::read_bvh(*converted_text, "converted").has_value(), "converted file reads back");
   check(!dq::with_rotation_order(*bvh, dq::EulerOrder::ZXZ).has_value(), "a proper Euler order is refused");
   const dq::Expected<dq::BvhFile> rebuilt = dq::to_bvh(m->skeleton, m->animation, order);
   check(rebuilt.has_value(), "to_bvh accepts any skeleton");
-  const dq::Expected<dq::BvhFile> reread = dq::read_bvh(dq::write_bvh(*rebuilt), "rebuilt");
+  const dq::Expected<std::string> rebuilt_text = dq::write_bvh(*rebuilt);
+  check(rebuilt_text.has_value(), "to_bvh output is writable");
+  const dq::Expected<dq::BvhFile> reread = dq::read_bvh(*rebuilt_text, "rebuilt");
   check(reread.has_value(), "to_bvh output reads back");
   check(dq::bvh_skeleton(*reread).has_value(), "to_bvh output has unique names");
   return 0;

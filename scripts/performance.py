@@ -2,6 +2,7 @@
 """Runs the benchmark suite and regenerates docs/performance.md and docs/performance.png.
 
     /usr/bin/python3 scripts/performance.py [BUILD_DIR]      (default build/release, configured)
+    /usr/bin/python3 scripts/performance.py --from-json      (the page and plot again from docs/performance.json)
 
 It builds bench_batch, bench_core, bench_skin and bench_ik in BUILD_DIR first, and bench_core with
 -mavx2 -mfma in build/bench-avx2.
@@ -133,17 +134,25 @@ def ik_table(add, k):
     lma = next(r for name, r in k.items() if name.startswith("ArmKdlLMA"))["solves_per_s"]
     for prefix, label in IK:
         r = next(r for name, r in k.items() if name.startswith(prefix + "/"))
-        add(f"| {label} | {r['solves_per_s']:,.0f} | {r['median_us']:.1f} | {r['iterations']:.1f} | "
+        iterations = f"{r['iterations']:.1f}" if r["iterations"] > 0 else "—"  # KDL's NR_JL does not report them
+        add(f"| {label} | {r['solves_per_s']:,.0f} | {r['median_us']:.1f} | {iterations} | "
             f"{100 * r['success_rate']:.1f} % | {r['solves_per_s'] / lma:.2f} |")
 
 
-def main(build):
+def run_suite(build):
+    """Runs every benchmark binary and keeps the raw results in docs/performance.json."""
     # Brought up to date first: a binary older than the sources would be measured as if it were them.
     quiet(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_batch", "bench_core", "bench_skin", "bench_ik"])
-    batch, core, core_avx2 = run(build, "bench_batch"), run(build, "bench_core"), run(build_avx2(), "bench_core")
-    skin, ik = run(build, "bench_skin"), run(build, "bench_ik", ["--benchmark_enable_random_interleaving=true"])
+    results = {"bench_batch": run(build, "bench_batch"), "bench_core": run(build, "bench_core"),
+               "bench_core_avx2": run(build_avx2(), "bench_core"), "bench_skin": run(build, "bench_skin"),
+               "bench_ik": run(build, "bench_ik", ["--benchmark_enable_random_interleaving=true"])}
     with open(os.path.join(ROOT, "docs", "performance.json"), "w") as f:
-        json.dump({"bench_batch": batch, "bench_core": core, "bench_core_avx2": core_avx2, "bench_skin": skin, "bench_ik": ik}, f, indent=1)
+        json.dump(results, f, indent=1)
+    return results
+
+
+def main(results):
+    batch, core, core_avx2, skin, ik = (results[k] for k in ("bench_batch", "bench_core", "bench_core_avx2", "bench_skin", "bench_ik"))
     b, c, c_avx2, s, k = medians(batch), medians(core), medians(core_avx2), medians(skin), medians(ik)
     ctx = batch["context"]
     copy1 = b["Copy/1/real_time"]["bytes_per_second"]
@@ -241,7 +250,7 @@ def main(build):
         text = text.rstrip() + "\n\n## The batch kernels and the suite against the peers\n" + new + "\n"
     open(page, "w").write(text)
 
-    fig, ax = plt.subplots(1, 3, figsize=(19, 5))
+    fig, ax = plt.subplots(1, 3, figsize=(19, 5.5), layout="constrained")
     names = ["10k ×64\n1 thread", "10k ×64\n2 threads", "100k ×64\n1 thread", "100k ×64\n2 threads"]
     cases = ["10000/1/real_time", "10000/2/real_time", "100000/1/real_time", "100000/2/real_time"]
     at = range(len(names))
@@ -250,7 +259,8 @@ def main(build):
     ax[0].bar(list(at), [b["FkBlocksDispatched/" + k]["bytes_per_second"] / copy1 for k in cases], 0.27, label="pose blocks")
     ax[0].bar([x + 0.27 for x in at], [b["FkDispatched/" + k]["bytes_per_second"] / copy1 for k in cases], 0.27, label="joint-major")
     ax[0].set_xticks(list(at), names)
-    ax[0].legend()
+    ax[0].set_ylim(0, 1.3 * ax[0].get_ylim()[1])  # room for the legend above the bars
+    ax[0].legend(loc="upper right", fontsize="small")
     ax[0].axhline(1.0, color="grey", linestyle=":")
     ax[0].set_ylabel("fraction of the 1-thread copy bandwidth")
     ax[0].set_title("Batch forward kinematics against the memory roofline")
@@ -283,11 +293,15 @@ def main(build):
     ax[2].axhline(1.0, color="grey", linestyle=":")
     ax[2].axhline(0.7, color="tab:red", linestyle="--", label="target for DQS (0.7)")
     ax[2].set_ylabel("fraction of the triad bandwidth, same thread count")
-    ax[2].set_title("Skinning 1M+ vertices × 4, positions and normals")
-    ax[2].legend()
-    fig.tight_layout()
+    ax[2].set_title("Skinning, 4 influences, positions and normals")
+    ax[2].set_ylim(0, 1.5 * max(1.0, ax[2].get_ylim()[1]))  # room for the legend above the bars
+    ax[2].legend(loc="upper left", fontsize="small")
     fig.savefig(os.path.join(ROOT, "docs", "performance.png"), dpi=80)
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "release"))
+    if sys.argv[1:] == ["--from-json"]:
+        with open(os.path.join(ROOT, "docs", "performance.json")) as f:
+            main(json.load(f))
+    else:
+        main(run_suite(sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "release")))

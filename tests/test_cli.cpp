@@ -122,13 +122,28 @@ TEST_F(Cli, BadArgumentsAndFilesGiveClearErrors) {
   EXPECT_NE(r.code, 0);
   r = run("fk " + bvh + " --format xml");
   EXPECT_NE(r.code, 0);
-  r = run("info /nonexistent.bvh");
+  r = run("info /nonexistent.bvh");  // named .bvh: the BVH reader's error, with or without the importer
   EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("/nonexistent.bvh: cannot open for reading: No such file or directory"), std::string::npos) << r.err;
 #ifdef DQKIT_HAVE_IMPORT
-  EXPECT_NE(r.err.find("/nonexistent.bvh: no such file"), std::string::npos) << r.err;
-#else
-  EXPECT_NE(r.err.find("/nonexistent.bvh: cannot open"), std::string::npos) << r.err;
+  r = run("info /nonexistent.gltf");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("/nonexistent.gltf: no such file"), std::string::npos) << r.err;
 #endif
+  // A file named .bvh that is not BVH (here empty) gets the BVH reader's error, not the importer's.
+  std::ofstream(dir_ / "empty.bvh").flush();
+  r = run("info " + (dir_ / "empty.bvh").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("empty.bvh:1: expected 'HIERARCHY'"), std::string::npos) << r.err;
+  // A BVH file has one animation.
+  r = run("info " + bvh + " --animation 1");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("animation 1 requested, a BVH file has 1"), std::string::npos) << r.err;
+  // Empty file names are errors, not standard output.
+  r = run("fk " + bvh + " -o ''");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("an empty file name"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
   std::ofstream(dir_ / "broken.bvh") << "HIERARCHY\nROOT A\n{\nOFFSET 0 0\n";
   r = run("info " + (dir_ / "broken.bvh").string());
   EXPECT_EQ(r.code, 1);
@@ -156,7 +171,7 @@ TEST_F(Cli, ConvertChangesRotationOrderAndWritesSafely) {
   const std::string before = read_file(out);
   r = run("convert " + in.string() + " " + out.string() + " --rotation-order XYZ");
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("already exists (use --force"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("already exists; it is replaced only when asked (--force"), std::string::npos) << r.err;
   EXPECT_EQ(read_file(out), before);
   r = run("convert " + in.string() + " " + out.string() + " --rotation-order XYZ --force");
   EXPECT_EQ(r.code, 0) << r.err;
@@ -349,11 +364,37 @@ TEST_F(CliScript, InfoAsJson) {
   EXPECT_EQ(j["hierarchy"][0]["channels"].size(), 6u);
 }
 
+TEST_F(CliScript, ValuesBeyondDoubleAreErrorsNotUnreadableOutput) {
+  // Offsets of 1e300, finite in the file, overflow once scaled: convert and fk refuse to write ∞,
+  // which neither BVH nor JSON can read back, and leave no file.
+  write("big.bvh", "HIERARCHY\nROOT A\n{\nOFFSET 1e300 1e300 1e300\nCHANNELS 3 Xposition Yposition Zposition\nJOINT B\n{\n"
+                   "OFFSET 1e300 1e300 1e300\nCHANNELS 0\n}\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n1e300 1e300 1e300\n");
+  Outcome r = run("convert " + p("big.bvh") + " " + p("out.bvh") + " --scale 1e12");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("big.bvh: cannot write BVH: joint 0 ('A'): the offset is not finite (after --scale)"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out.bvh"));
+  r = run("fk " + p("big.bvh") + " --scale 1e12 --format json -o " + p("out.json"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("big.bvh: frame 0, joint 'A': the transform is not finite (its lengths times --scale overflow a double)"),
+            std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out.json"));
+  EXPECT_TRUE(no_temporaries());
+  // A denormal frame time is a valid file whose rate is beyond double: JSON says null.
+  write("fast.bvh", "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 2\nFrame Time: 5e-324\n0\n1\n");
+  r = run("info " + p("fast.bvh") + " --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["rate"].is_null());
+  EXPECT_EQ(j["frame_time"].get<double>(), 5e-324);
+}
+
 TEST_F(CliScript, EveryMisuseGetsAClearMessage) {
   write("a.bvh", kAwkward);
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"info " + dir_.string(), ": is a directory"},
       {"info /dev/zero", "/dev/zero: is not a regular file"},
+      {"fk " + p("a.bvh") + " -o /dev/null", "/dev/null: is not a regular file (a symbolic link, device, FIFO or socket): dqkit writes only regular files"},
+      {"fk ''", "an empty file name"},
       {"frobnicate x", "unknown command 'frobnicate' (commands: info, fk, convert"},
       {"fk " + p("a.bvh") + " --rate nan", "--rate: 'nan' is not a finite number"},
       {"fk " + p("a.bvh") + " --import-timeout nan", "--import-timeout: 'nan' is not a finite number"},
@@ -449,7 +490,7 @@ TEST_F(CliScript, ASignalLeavesNoTemporaryFileAndRacingWritersDoNotReplaceEachOt
   write("small.bvh", generated_capture(5, 2000));
   const Outcome both = dq::test::run_shell(kTool + " fk " + p("small.bvh") + " --all -o " + p("race.csv") + " & " + kTool + " fk " + p("small.bvh") +
                              " --all -o " + p("race.csv") + "; wait");
-  EXPECT_NE(both.err.find("race.csv: already exists (use --force to replace it)"), std::string::npos) << both.err;
+  EXPECT_NE(both.err.find("race.csv: already exists; it is replaced only when asked (--force on the command line, overwrite=True in Python, Overwrite::allow in C++)"), std::string::npos) << both.err;
   const Outcome reference = run("fk " + p("small.bvh") + " --all");
   EXPECT_EQ(read_file(dir_ / "race.csv"), reference.out);
   EXPECT_TRUE(no_temporaries());

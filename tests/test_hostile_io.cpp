@@ -9,6 +9,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <thread>
 
@@ -137,9 +138,14 @@ TEST_F(HostileIo, BvhIsRecognizedByContent) {
   const fs::path fake = dir_ / "model.bvh";
   std::ofstream(fake) << "{\"asset\": {}}";
   EXPECT_FALSE(is_bvh_file(fake));
-  const Expected<Motion> m = load_motion(fake);
+  const Expected<Motion> m = load_motion(fake);  // named .bvh: the BVH reader says what is wrong
   ASSERT_FALSE(m);
-  EXPECT_NE(m.error().message.find("not a BVH file"), std::string::npos);
+  EXPECT_NE(m.error().message.find("model.bvh:1: expected 'HIERARCHY'"), std::string::npos) << m.error().message;
+  const fs::path other = dir_ / "model.gltf";
+  std::ofstream(other) << "{\"asset\": {}}";
+  const Expected<Motion> o = load_motion(other);
+  ASSERT_FALSE(o);
+  EXPECT_NE(o.error().message.find("not a BVH file"), std::string::npos) << o.error().message;
 }
 
 TEST(Hostile, WrittenTextIsLinearInDepth) {
@@ -150,11 +156,46 @@ TEST(Hostile, WrittenTextIsLinearInDepth) {
   text += "MOTION\nFrames: 0\nFrame Time: 1\n";
   const Expected<BvhFile> b = read_bvh(text, "chain");
   ASSERT_TRUE(b) << b.error().message;
-  const std::string written = write_bvh(*b);
+  const std::string written = write_bvh(*b).value();
   EXPECT_LT(written.size(), 3 * text.size() + 32 * 6 * 20000);
   const Expected<BvhFile> again = read_bvh(written, "again");
   ASSERT_TRUE(again) << again.error().message;
-  EXPECT_EQ(write_bvh(*again), written);
+  EXPECT_EQ(write_bvh(*again).value(), written);
+}
+
+TEST(Hostile, TheWriterRefusesWhatWouldNotReadBack) {
+  const Expected<BvhFile> good = read_bvh(
+      "HIERARCHY\nROOT hip\n{\nOFFSET 0 0 0\nCHANNELS 3 Xposition Yposition Zrotation\nJOINT knee\n{\nOFFSET 0 -1 0\n"
+      "CHANNELS 1 Xrotation\nEnd Site\n{\nOFFSET 0 -1 0\n}\n}\n}\nMOTION\nFrames: 2\nFrame Time: 0.5\n1 2 3 4\n5 6 7 8\n",
+      "good");
+  ASSERT_TRUE(good) << good.error().message;
+  ASSERT_TRUE(check_writable(*good));
+  const auto refusal = [&](auto&& damage) {
+    BvhFile b = *good;
+    damage(b);
+    bool sink_called = false;
+    const Status s = write_bvh(b, [&](std::string_view) { sink_called = true; });
+    EXPECT_FALSE(sink_called) << "nothing is written before the check";
+    EXPECT_FALSE(write_bvh(b).has_value());
+    return s ? std::string("(written)") : s.error().message;
+  };
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(refusal([&](BvhFile& b) { b.motion[7] = nan; }), "cannot write BVH: frame 1, joint 1 ('knee') Xrotation: the value is not finite");
+  EXPECT_EQ(refusal([&](BvhFile& b) { b.motion[2] = -inf; }), "cannot write BVH: frame 0, joint 0 ('hip') Zrotation: the value is not finite");
+  EXPECT_EQ(refusal([&](BvhFile& b) { b.joints[1].offset.y = inf; }), "cannot write BVH: joint 1 ('knee'): the offset is not finite");
+  EXPECT_EQ(refusal([&](BvhFile& b) { b.frame_time = 0; }), "cannot write BVH: the frame time must be finite and positive");
+  EXPECT_EQ(refusal([&](BvhFile& b) { b.motion.pop_back(); }), "cannot write BVH: 7 motion values for 2 frames of 4 channels");
+  EXPECT_EQ(refusal([&](BvhFile& b) { b.joints[1].name = "kn{ee"; }),
+            "cannot write BVH: joint 1 ('kn{ee'): the name would not read back (empty, not UTF-8, braces, line breaks or runs of spaces)");
+  EXPECT_NE(refusal([&](BvhFile& b) { b.joints[0].name = "two  spaces"; }).find("would not read back"), std::string::npos);
+  EXPECT_NE(refusal([&](BvhFile& b) { b.joints[1].parent = 1; }).find("joint 1 ('knee'): its parent must come before it"), std::string::npos);
+  EXPECT_NE(refusal([&](BvhFile& b) { b.joints[2].channels.push_back(BvhChannel::Xrotation); }).find("an End Site has no channels"), std::string::npos);
+  // Names with single inner spaces read back as they were.
+  BvhFile spaced = *good;
+  spaced.joints[1].name = "left knee";
+  const Expected<BvhFile> back = read_bvh(write_bvh(spaced).value(), "spaced");
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_EQ(back->joints[1].name, "left knee");
 }
 
 TEST(Hostile, ConvertersWriteOnlyWhatReadsBack) {
@@ -169,7 +210,7 @@ TEST(Hostile, ConvertersWriteOnlyWhatReadsBack) {
   const Expected<BvhFile> b = to_bvh(*s, Animation{}, EulerOrder::ZXY);
   ASSERT_TRUE(b) << b.error().message;
   EXPECT_EQ(b->frame_count, 1u);
-  const Expected<Motion> back = read_motion(write_bvh(*b), "rig");
+  const Expected<Motion> back = read_motion(write_bvh(*b).value(), "rig");
   ASSERT_TRUE(back) << back.error().message;
   ASSERT_EQ(back->animation.frame_count, 1u);
   for (std::size_t j = 0; j < 3; ++j)
@@ -186,16 +227,26 @@ TEST(Hostile, ResamplingEndsOnTheLastKey) {
   EXPECT_EQ(resampled_frame_count(1.0, 30), 31u);
   EXPECT_EQ(resampled_frame_count(1.03, 30), 32u);  // the old floor gave 31 and lost the end
   EXPECT_EQ(resampled_frame_count(0, 30), 1u);
-  // A BVH capture resampled: same duration, the end kept.
+  // Counts beyond any memory saturate instead of wrapping (a cast of 2^64 or more is undefined).
+  EXPECT_EQ(resampled_frame_count(1e13, 1e7), std::numeric_limits<std::size_t>::max());
+  EXPECT_EQ(resampled_frame_count(std::numeric_limits<double>::quiet_NaN(), 30), std::numeric_limits<std::size_t>::max());
+  // A BVH capture resampled: the end kept by the last frame, which holds the clip's last pose.
   std::string text = kOneJoint + "Frames: 4\nFrame Time: 0.1\n0\n10\n20\n30\n";
   MotionOptions o;
   o.sample_rate = 25;
   const Expected<Motion> m = read_motion(text, "r", o);
   ASSERT_TRUE(m) << m.error().message;
-  EXPECT_EQ(m->animation.frame_count, 9u);  // 0.3 s at 25 Hz: 8.0 frames, 9 with both ends
+  EXPECT_EQ(m->animation.frame_count, 9u);  // 0.3 s at 25 Hz: 7.5 frames, 8 steps, 9 with both ends
   EXPECT_DOUBLE_EQ(m->animation.frame_time, 0.04);
-  const auto last = m->animation.frame(8)[0].real;
-  EXPECT_NEAR(std::abs(last.w), std::cos(30 * std::numbers::pi / 360), 1e-12);
+  for (std::size_t f = 0; f < 9; ++f) {  // the channel turns 100 degrees per second, held after 0.3 s
+    const double degrees = std::min(100 * static_cast<double>(f) * 0.04, 30.0);
+    EXPECT_NEAR(std::abs(m->animation.frame(f)[0].real.w), std::cos(degrees * std::numbers::pi / 360), 1e-9) << f;
+  }
+  // A frame time so long that the count overflows: the budget refuses it.
+  o.sample_rate = 1000;
+  const Expected<Motion> huge = read_motion(kOneJoint + "Frames: 2\nFrame Time: 1e17\n0\n10\n", "huge", o);
+  ASSERT_FALSE(huge);
+  EXPECT_NE(huge.error().message.find("MB allowed"), std::string::npos) << huge.error().message;
 }
 
 // ---- writing ----------------------------------------------------------------------------------
@@ -210,7 +261,7 @@ TEST_F(HostileIo, ExclusiveCreateNeverReplacesAConcurrentWriter) {
   ASSERT_TRUE(a->commit());
   const Status second = b->commit();
   ASSERT_FALSE(second);
-  EXPECT_EQ(second.error().message, target.string() + ": already exists (use --force to replace it)");
+  EXPECT_EQ(second.error().message, target.string() + ": already exists; it is replaced only when asked (--force on the command line, overwrite=True in Python, Overwrite::allow in C++)");
   EXPECT_EQ(slurp(target), "first");
   EXPECT_TRUE(no_temporaries());
 }

@@ -544,7 +544,7 @@ TEST(MotionCapture, FixFeetPinsContactsAndLeavesTheRestExactly) {
   }
   EXPECT_GT(changed, 0u);
   // The file written is valid BVH with the same hierarchy and channels.
-  const Expected<BvhFile> back = read_bvh(write_bvh(fixed), "fixed.bvh");
+  const Expected<BvhFile> back = read_bvh(write_bvh(fixed).value(), "fixed.bvh");
   ASSERT_TRUE(back) << back.error().message;
   EXPECT_EQ(back->joints.size(), original->joints.size());
   EXPECT_EQ(back->channel_count(), original->channel_count());

@@ -7,6 +7,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
@@ -85,6 +86,26 @@ TEST_F(Isolation, MemoryIsLimited) {
   options.memory_limit_mb = 256;
   const Expected<ImportedScene> s = import_with_fake("allocate", options);
   EXPECT_NE(message(s).find("model.gltf: the importer failed on this file (out of memory?)"), std::string::npos) << message(s);
+}
+
+TEST_F(Isolation, LimitsBelowTheRequestedOnesAreKept) {
+  // A shell's `ulimit -v` or `ulimit -t` sets hard limits the worker inherits and cannot raise: it
+  // runs under those instead of failing to start.
+  if (kSanitized) GTEST_SKIP() << "no address-space limit under sanitizers (they reserve terabytes of address space)";
+  rlimit memory{}, cpu{};
+  ASSERT_EQ(::getrlimit(RLIMIT_AS, &memory), 0);
+  ASSERT_EQ(::getrlimit(RLIMIT_CPU, &cpu), 0);
+  const rlim_t six_gb = rlim_t{6} << 30;
+  const rlimit lower_memory{six_gb, six_gb}, lower_cpu{600, 600};
+  ASSERT_EQ(::setrlimit(RLIMIT_AS, &lower_memory), 0);
+  ASSERT_EQ(::setrlimit(RLIMIT_CPU, &lower_cpu), 0);
+  ImportOptions options;
+  options.memory_limit_mb = 8192;
+  options.cpu_limit_seconds = 3600;
+  const Expected<ImportedScene> s = import_with_fake("fds", options);
+  ::setrlimit(RLIMIT_AS, &memory);  // raising a hard limit back needs privileges: best effort
+  ::setrlimit(RLIMIT_CPU, &cpu);
+  EXPECT_EQ(message(s), "fds: 0 1 2 3");
 }
 
 TEST_F(Isolation, WallClockIsLimited) {

@@ -2,6 +2,8 @@
 // quaternions against 4x4 matrices, partial updates, the batch job, and the biped rig.
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include "dq/anim/animation.hpp"
@@ -220,6 +222,24 @@ TEST(Animation, SamplingModesClampAndLoop) {
     EXPECT_TRUE(approx_equal(out[0], anim.locals[0], 1e-12, SignPolicy::same_rotation));
     sample<double>(anim, 1.5 + 0.5 * 3, mode, WrapMode::loop, out);  // period 1.5 s: frame 0 again
     EXPECT_TRUE(approx_equal(out[0], anim.locals[0], 1e-12, SignPolicy::same_rotation));
+  }
+  // Times at and beyond the ends of double: ±∞ clamps like any time past an end, also where
+  // time ÷ frame_time overflows; NaN, and ∞ in a loop (no phase), give NaN, never frame 0.
+  const double inf = std::numeric_limits<double>::infinity();
+  sample<double>(anim, inf, Interpolation::screw, WrapMode::clamp, out);
+  EXPECT_EQ(out[0], anim.locals[2]);
+  sample<double>(anim, -inf, Interpolation::screw, WrapMode::clamp, out);
+  EXPECT_EQ(out[0], anim.locals[0]);
+  Animation fast = anim;
+  fast.frame_time = 1e-300;
+  sample<double>(fast, 1e10, Interpolation::screw, WrapMode::clamp, out);  // 1e310 frames: ∞
+  EXPECT_EQ(out[0], anim.locals[2]);
+  for (const auto& [time, wrap] : {std::pair{std::numeric_limits<double>::quiet_NaN(), WrapMode::clamp},
+                                   std::pair{std::numeric_limits<double>::quiet_NaN(), WrapMode::loop}, std::pair{inf, WrapMode::loop},
+                                   std::pair{-inf, WrapMode::loop}}) {
+    out[0] = DualQuaternion<double>::identity();
+    sample<double>(anim, time, Interpolation::screw, wrap, out);
+    EXPECT_TRUE(std::isnan(out[0].real.w) && std::isnan(out[0].dual.z)) << time << " " << static_cast<int>(wrap);
   }
   // Screw vs decoupled differ between keys where rotation and translation both change.
   std::array<DualQuaternion<double>, 1> a, b;

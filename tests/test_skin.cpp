@@ -734,10 +734,11 @@ TEST(SkinningFiles, FormatsKeepTheVertexOrder) {
   ASSERT_TRUE(pose_at(scene, 0, 0.3, world).ok());
   const SkinnedFrame frame = skin_scene(scene, world, SkinningMethod::dqs);
   const std::string csv = *format_frame(frame, MeshFormat::csv);
-  EXPECT_EQ(csv.substr(0, csv.find('\n')), "vertex,x,y,z");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "vertex,x,y,z\r");  // CRLF, as RFC 4180
   EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), frame.size() + 1);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\r'), std::count(csv.begin(), csv.end(), '\n'));
   char line[128];
-  std::snprintf(line, sizeof line, "\n7,%.9g,%.9g,%.9g\n", double(frame.px[7]), double(frame.py[7]), double(frame.pz[7]));
+  std::snprintf(line, sizeof line, "\n7,%.9g,%.9g,%.9g\r\n", double(frame.px[7]), double(frame.py[7]), double(frame.pz[7]));
   EXPECT_NE(csv.find(line), std::string::npos);
   const std::string obj = *format_frame(frame, MeshFormat::obj);
   std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", double(frame.px[0]), double(frame.py[0]), double(frame.pz[0]));

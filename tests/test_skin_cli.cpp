@@ -44,9 +44,9 @@ TEST_F(SkinCli, CsvOfSimpleSkin) {
   ASSERT_EQ(r.code, 0) << r.err;
   // Ten vertices; vertex 0, (0, 0, 0) in the file, is bound to joint 0 only, which stays at its
   // bind offset: inverse bind translate(−0.5, −1, 0) after joint translate(0, 1, 0).
-  EXPECT_EQ(r.out.substr(0, r.out.find('\n')), "vertex,x,y,z");
+  EXPECT_EQ(r.out.substr(0, r.out.find('\n')), "vertex,x,y,z\r");
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 11);
-  EXPECT_NE(r.out.find("\n0,-0.5,0,0\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\n0,-0.5,0,0\r\n"), std::string::npos) << r.out;
 }
 
 TEST_F(SkinCli, FilesAreNotReplacedWithoutForce) {

@@ -1,5 +1,9 @@
 // Skeletons, animations and forward kinematics (single pose and (F, J, 8) batches), BVH and
 // motion files, model import.
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
+
 #include "batch.hpp"
 #include "dq/anim/animation.hpp"
 #include "dq/anim/forward_kinematics.hpp"
@@ -51,7 +55,13 @@ void bind_skeleton(py::module_& m) {
         return dual_quaternions_to_numpy(s.rest_pose(), {static_cast<py::ssize_t>(s.size()), 8});
       }, "(J, 8) local rest transforms.")
       .def("is_end_site", &dq::Skeleton::is_end_site, py::arg("j"))
-      .def("find", &dq::Skeleton::find, py::arg("name"), "The joint's index, or −1.")
+      .def("find", &dq::Skeleton::find, py::arg("name"), "The joint's index, or −1 (as str.find; index() raises instead).")
+      .def("index", [](const dq::Skeleton& s, const std::string& name) {
+        const int j = s.find(name);
+        if (j < 0) throw py::key_error("no joint named '" + name + "' (the names are in Skeleton.names)");
+        return j;
+      }, py::arg("name"), "The joint's index; KeyError if there is none (safe as a NumPy index, where −1 is the last joint).")
+      .def("__contains__", [](const dq::Skeleton& s, const std::string& name) { return s.find(name) >= 0; }, py::arg("name"))
       .def("subtree_end", &dq::Skeleton::subtree_end, py::arg("j"), "One past the last joint of j's subtree.")
       .def("__repr__", [](const dq::Skeleton& s) { return "Skeleton(" + std::to_string(s.size()) + " joints)"; });
   m.def("build_skeleton", [](const dq::RawSkeleton& raw) { return unwrap(dq::build_skeleton(raw)); }, py::arg("raw"));
@@ -139,26 +149,32 @@ void bind_files(py::module_& m) {
       .def("channel_count", &dq::BvhFile::channel_count)
       .def_property("motion",
                     [](const dq::BvhFile& b) {
-                      return py::array_t<double>({static_cast<py::ssize_t>(b.frame_count), static_cast<py::ssize_t>(b.channel_count())}, b.motion.data());
+                      // Read-only, so that an element assignment (b.motion[0, 0] = 1) fails instead of changing a copy.
+                      py::array_t<double> a({static_cast<py::ssize_t>(b.frame_count), static_cast<py::ssize_t>(b.channel_count())}, b.motion.data());
+                      a.attr("setflags")(py::arg("write") = false);
+                      return a;
                     },
                     [](dq::BvhFile& b, py::handle values) {
                       const auto a = as_float64(values, {static_cast<py::ssize_t>(b.frame_count), static_cast<py::ssize_t>(b.channel_count())}, "motion");
                       b.motion.assign(a.data(), a.data() + a.size());
                     },
-                    "(frames, channels) values as in the file (a copy; assign an array of the same shape to change them).")
+                    "(frames, channels) values as in the file: a read-only copy; assign a whole array of the same shape to change them.")
       .def("__repr__", [](const dq::BvhFile& b) {
         return "BvhFile(" + std::to_string(b.joints.size()) + " joints, " + std::to_string(b.frame_count) + " frames)";
       });
-  m.def("read_bvh_file", [](const std::string& path) {
+  m.def("read_bvh_file", [](const std::filesystem::path& path) {
     dq::Expected<dq::BvhFile> r = [&] { py::gil_scoped_release release; return dq::read_bvh_file(path); }();
     return unwrap(std::move(r));
   }, py::arg("path"), "Reads a BVH file; raises ReadError with 'file:line: what'.");
   m.def("read_bvh", [](const std::string& text, const std::string& source) { return unwrap(dq::read_bvh(text, source)); },
         py::arg("text"), py::arg("source") = "<bvh>", "Parses BVH text; errors name `source` and the line.");
-  m.def("write_bvh", [](const dq::BvhFile& b) { return dq::write_bvh(b); }, py::arg("bvh"), "The BVH text.");
-  m.def("write_bvh_file", [](const dq::BvhFile& b, const std::string& path, bool overwrite) {
-    check(dq::write_file_atomically(path, dq::write_bvh(b), overwrite ? dq::Overwrite::allow : dq::Overwrite::refuse));
-  }, py::arg("bvh"), py::arg("path"), py::arg("overwrite") = false, "Writes atomically; refuses an existing file unless overwrite.");
+  m.def("write_bvh", [](const dq::BvhFile& b) { return writable(dq::write_bvh(b)); }, py::arg("bvh"),
+        "The BVH text; ValueError where it would not read back (a non-finite value, a bad name: the message says which).");
+  m.def("write_bvh_file", [](const dq::BvhFile& b, const std::filesystem::path& path, bool overwrite) {
+    const std::string text = writable(dq::write_bvh(b));
+    check_written(dq::write_file_atomically(path, text, overwrite ? dq::Overwrite::allow : dq::Overwrite::refuse));
+  }, py::arg("bvh"), py::arg("path"), py::arg("overwrite") = false,
+        "Writes atomically; refuses an existing file unless overwrite (WriteError); ValueError as write_bvh.");
   m.def("with_rotation_order", [](const dq::BvhFile& b, dq::EulerOrder o) { return unwrap(dq::with_rotation_order(b, o)); },
         py::arg("bvh"), py::arg("order"));
   m.def("bvh_skeleton", [](const dq::BvhFile& b) { return unwrap(dq::bvh_skeleton(b)); }, py::arg("bvh"));
@@ -180,7 +196,7 @@ void bind_files(py::module_& m) {
       .def_readonly("bvh", &dq::Motion::bvh)
       .def_readonly("animation_count", &dq::Motion::animation_count)
       .def_readonly("warnings", &dq::Motion::warnings);
-  m.def("load_motion", [](const std::string& path, const dq::MotionOptions& o) {
+  m.def("load_motion", [](const std::filesystem::path& path, const dq::MotionOptions& o) {
     dq::Expected<dq::Motion> r = [&] { py::gil_scoped_release release; return dq::load_motion(path, o); }();
     return unwrap(std::move(r));
   }, py::arg("path"), py::arg("options") = dq::MotionOptions{}, "A BVH file's motion (other formats: import_motion).");
@@ -199,7 +215,7 @@ void bind_import(py::module_& m) {
       .def_readwrite("memory_limit_mb", &dq::ImportOptions::memory_limit_mb)
       .def_readwrite("result_limit_mb", &dq::ImportOptions::result_limit_mb)
       .def_property("worker_path", [](const dq::ImportOptions& o) { return o.worker_path.string(); },
-                    [](dq::ImportOptions& o, const std::string& p) { o.worker_path = p; });
+                    [](dq::ImportOptions& o, const std::filesystem::path& p) { o.worker_path = p; });
   py::class_<dq::ImportedMesh>(m, "ImportedMesh")
       .def_readonly("name", &dq::ImportedMesh::name)
       .def_property_readonly("positions", [](const dq::ImportedMesh& me) {
@@ -221,11 +237,11 @@ void bind_import(py::module_& m) {
       .def_readonly("warnings", &dq::ImportedScene::warnings);
   // Imports run in the spawned dqkit-import-worker (posix_spawn, never a fork of the interpreter);
   // the package points DQKIT_IMPORT_WORKER at its own copy (dqkit/__init__.py).
-  m.def("import_scene", [](const std::string& path, const dq::ImportOptions& o) {
+  m.def("import_scene", [](const std::filesystem::path& path, const dq::ImportOptions& o) {
     dq::Expected<dq::ImportedScene> r = [&] { py::gil_scoped_release release; return dq::import_scene(path, o); }();
     return unwrap(std::move(r));
   }, py::arg("path"), py::arg("options") = dq::ImportOptions{}, "Imports a model (glTF, FBX, Collada, X, ...) in the isolated worker.");
-  m.def("import_motion", [](const std::string& path, const dq::MotionOptions& o) {
+  m.def("import_motion", [](const std::filesystem::path& path, const dq::MotionOptions& o) {
     dq::Expected<dq::Motion> r = [&] { py::gil_scoped_release release; return dq::import_motion(path, o); }();
     return unwrap(std::move(r));
   }, py::arg("path"), py::arg("options") = dq::MotionOptions{}, "The motion of any importable file (BVH through load_motion).");

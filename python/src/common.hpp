@@ -34,6 +34,22 @@ inline void check(const dq::Status& s) {
   if (!s) throw ReadError(s.error().message);
 }
 
+/// Raised when a file cannot be written (it exists and overwrite is False, a directory or device
+/// is in the way, the disk is full): the library's message naming the file. A subclass of OSError,
+/// registered in module.cpp.
+struct WriteError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+inline void check_written(const dq::Status& s) {
+  if (!s) throw WriteError(s.error().message);
+}
+/// A value for a writer, or ValueError with the reason it cannot be written.
+template <class T>
+T writable(dq::Expected<T>&& e) {
+  if (!e) throw py::value_error(e.error().message);
+  return std::move(*e);
+}
+
 /// The text of operator<< (the C++ printing, w, x, y, z order).
 template <class X>
 std::string str_of(const X& x) {

@@ -15,6 +15,8 @@ PYBIND11_MODULE(_dqkit, m) {
   dq::set_precondition_handler(&throw_on_precondition);
   auto read_error = py::register_exception<dqpy::ReadError>(m, "ReadError", PyExc_ValueError);
   read_error.attr("__doc__") = "A file, text or model that could not be read or built; the message says what and where ('file:line: ...').";
+  auto write_error = py::register_exception<dqpy::WriteError>(m, "WriteError", PyExc_OSError);
+  write_error.attr("__doc__") = "A file that could not be written; the message names it and says why. The previous file, if any, is untouched.";
   dqpy::bind_values(m);
   dqpy::bind_batch(m);
   dqpy::bind_anim(m);

@@ -114,17 +114,27 @@ int spawn_worker(const fs::path& worker, int channel, pid_t& pid) {
   return error;
 }
 
+/// Sets the worker's `resource` limits to `soft` and `hard`, or to the hard limit it inherited where
+/// that is lower: an unprivileged process cannot raise a hard limit (a shell's `ulimit -v` sets one),
+/// and the inherited limit already bounds the worker.
+bool lower_limit(pid_t pid, __rlimit_resource resource, rlim_t soft, rlim_t hard) {  // glibc's enum of RLIMIT_*
+  rlimit inherited{};
+  if (::prlimit(pid, resource, nullptr, &inherited) != 0) return false;
+  if (inherited.rlim_max != RLIM_INFINITY) soft = std::min(soft, inherited.rlim_max), hard = std::min(hard, inherited.rlim_max);
+  const rlimit limit{soft, hard};
+  return ::prlimit(pid, resource, &limit, nullptr) == 0;
+}
+
 /// Limits the worker before it is sent anything (it waits for the request before doing any work).
 Status limit_worker(pid_t pid, const ImportOptions& options) {
   if (options.cpu_limit_seconds > 0) {
     const auto seconds = static_cast<rlim_t>(std::ceil(std::min(options.cpu_limit_seconds, 1e9)));
-    const rlimit cpu{seconds, seconds + 1};  // SIGXCPU at the soft limit, SIGKILL a second later
-    if (::prlimit(pid, RLIMIT_CPU, &cpu, nullptr) != 0) return Error{std::string("cannot limit its CPU time: ") + std::strerror(errno)};
+    // SIGXCPU at the soft limit, SIGKILL a second later
+    if (!lower_limit(pid, RLIMIT_CPU, seconds, seconds + 1)) return Error{std::string("cannot limit its CPU time: ") + std::strerror(errno)};
   }
   if (!kSanitized && options.memory_limit_mb > 0) {
     const rlim_t bytes = static_cast<rlim_t>(std::min<std::size_t>(options.memory_limit_mb, std::size_t{1} << 40)) << 20;
-    const rlimit memory{bytes, bytes};
-    if (::prlimit(pid, RLIMIT_AS, &memory, nullptr) != 0) return Error{std::string("cannot limit its memory: ") + std::strerror(errno)};
+    if (!lower_limit(pid, RLIMIT_AS, bytes, bytes)) return Error{std::string("cannot limit its memory: ") + std::strerror(errno)};
   }
   return {};
 }

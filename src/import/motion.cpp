@@ -12,7 +12,7 @@ Expected<Motion> import_motion(const std::filesystem::path& path, const MotionOp
   const auto status = std::filesystem::status(path, ec);
   if (std::filesystem::exists(status) && !std::filesystem::is_directory(status) && !std::filesystem::is_regular_file(status))
     return Error{path.string() + ": is not a regular file (a device, FIFO or socket)"};
-  if (is_bvh_file(path)) return load_motion(path, options);
+  if (is_bvh_file(path) || has_bvh_extension(path)) return load_motion(path, options);
   ImportOptions io;
   io.sample_rate = options.sample_rate > 0 ? options.sample_rate : 30;
   io.timeout_seconds = options.import_timeout;

@@ -416,13 +416,59 @@ Expected<BvhFile> read_bvh_file(const std::filesystem::path& path) {
   return read_bvh(text, name);
 }
 
-std::string write_bvh(const BvhFile& bvh) {
+namespace {
+/// A name read_bvh reads back unchanged: it joins a name's words with single spaces.
+bool name_reads_back(const std::string& name) {
+  return !name.empty() && name.size() <= BvhLimits::max_name_bytes && is_valid_utf8(name) &&
+         name.find_first_of("{}\t\n\v\f\r") == std::string::npos && name.front() != ' ' && name.back() != ' ' &&
+         name.find("  ") == std::string::npos;
+}
+std::string joint_label(const BvhFile& bvh, std::size_t i) { return "joint " + std::to_string(i) + " ('" + bvh.joints[i].name + "')"; }
+}  // namespace
+
+Status check_writable(const BvhFile& bvh) {
+  const auto fail = [](const std::string& what) { return Error{"cannot write BVH: " + what}; };
+  if (bvh.joints.empty() || bvh.joints[0].parent != -1 || bvh.joints[0].end_site) return fail("the first joint must be a root joint");
+  if (bvh.joints.size() > BvhLimits::max_joints) return fail("more than " + std::to_string(BvhLimits::max_joints) + " joints");
+  std::size_t channels = 0;
+  for (std::size_t i = 0; i < bvh.joints.size(); ++i) {
+    const BvhJoint& j = bvh.joints[i];
+    if (j.parent < -1 || j.parent >= static_cast<int>(i)) return fail(joint_label(bvh, i) + ": its parent must come before it");
+    if (j.parent >= 0 && bvh.joints[static_cast<std::size_t>(j.parent)].end_site) return fail(joint_label(bvh, i) + ": its parent is an End Site");
+    if (j.parent < 0 && j.end_site) return fail(joint_label(bvh, i) + ": an End Site without a parent");
+    if (!j.end_site && !name_reads_back(j.name))
+      return fail(joint_label(bvh, i) + ": the name would not read back (empty, not UTF-8, braces, line breaks or runs of spaces)");
+    if (!std::isfinite(j.offset.x) || !std::isfinite(j.offset.y) || !std::isfinite(j.offset.z))
+      return fail(joint_label(bvh, i) + ": the offset is not finite");
+    if (j.end_site && !j.channels.empty()) return fail(joint_label(bvh, i) + ": an End Site has no channels");
+    if (j.channels.size() > 6) return fail(joint_label(bvh, i) + ": more than 6 channels");
+    if (j.first_channel != channels) return fail(joint_label(bvh, i) + ": first_channel is not the count of the channels before it");
+    channels += j.channels.size();
+  }
+  if (!std::isfinite(bvh.frame_time) || !(bvh.frame_time > 0)) return fail("the frame time must be finite and positive");
+  if (bvh.frame_count > BvhLimits::max_frames) return fail("more than " + std::to_string(BvhLimits::max_frames) + " frames");
+  if (bvh.motion.size() != bvh.frame_count * channels)
+    return fail(std::to_string(bvh.motion.size()) + " motion values for " + std::to_string(bvh.frame_count) + " frames of " +
+                std::to_string(channels) + " channels");
+  for (std::size_t k = 0; k < bvh.motion.size(); ++k)
+    if (!std::isfinite(bvh.motion[k])) {
+      const std::size_t c = k % channels;
+      std::size_t i = 0;
+      while (bvh.joints[i].first_channel + bvh.joints[i].channels.size() <= c) ++i;
+      return fail("frame " + std::to_string(k / channels) + ", " + joint_label(bvh, i) + " " +
+                  std::string(to_string(bvh.joints[i].channels[c - bvh.joints[i].first_channel])) + ": the value is not finite");
+    }
+  return {};
+}
+
+Expected<std::string> write_bvh(const BvhFile& bvh) {
   std::string text;
-  write_bvh(bvh, [&](std::string_view chunk) { text += chunk; });
+  if (Status s = write_bvh(bvh, [&](std::string_view chunk) { text += chunk; }); !s) return s.error();
   return text;
 }
 
-void write_bvh(const BvhFile& bvh, const std::function<void(std::string_view)>& sink) {
+Status write_bvh(const BvhFile& bvh, const std::function<void(std::string_view)>& sink) {
+  if (Status s = check_writable(bvh); !s) return s;
   std::string out = "HIERARCHY\n";
   std::vector<int> open;  // joints whose block is open
   // Indentation is capped, so that the text stays linear in the number of joints at any depth.
@@ -478,6 +524,7 @@ void write_bvh(const BvhFile& bvh, const std::function<void(std::string_view)>& 
     if (out.size() >= (1u << 16)) sink(std::exchange(out, {}));
   }
   sink(out);
+  return {};
 }
 
 namespace {

@@ -51,6 +51,8 @@ extern "C" void remove_temporaries_and_die(int sig) {
 
 std::string reason(int error) { return std::strerror(error); }
 
+constexpr const char* kAlreadyExists = ": already exists; it is replaced only when asked (--force on the command line, overwrite=True in Python, Overwrite::allow in C++)";
+
 }  // namespace
 
 void remove_temporary_files_on_signals() {
@@ -66,12 +68,14 @@ void remove_temporary_files_on_signals() {
 
 Expected<OutputFile> OutputFile::create(const std::filesystem::path& path, Overwrite overwrite) {
   const std::string name = path.string();
+  if (name.empty()) return Error{"an empty file name"};
   struct stat st {};
   if (::lstat(path.c_str(), &st) == 0) {
     if (S_ISDIR(st.st_mode)) return Error{name + ": is a directory"};
-    if (overwrite == Overwrite::refuse) return Error{name + ": already exists (use --force to replace it)"};
     if (!S_ISREG(st.st_mode))
-      return Error{name + ": is not a regular file (a symbolic link, device, FIFO or socket); it is never replaced"};
+      return Error{name + ": is not a regular file (a symbolic link, device, FIFO or socket): dqkit writes only regular files, "
+                          "never through or over one"};
+    if (overwrite == Overwrite::refuse) return Error{name + kAlreadyExists};
   } else if (errno != ENOENT) {
     return Error{name + ": " + reason(errno)};
   }
@@ -186,7 +190,7 @@ Status OutputFile::commit() {
     if (rc != 0) ::unlink(temporary_.c_str());
     release_slot(std::exchange(slot_, -1));
     if (rc == 0) return {};
-    if (error == EEXIST) return Error{name + ": already exists (use --force to replace it)"};
+    if (error == EEXIST) return Error{name + kAlreadyExists};
     return Error{name + ": cannot " + (overwrite_ == Overwrite::allow ? "replace" : "create") + ": " + reason(error)};
   };
   if (overwrite_ == Overwrite::allow) {

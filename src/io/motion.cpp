@@ -7,14 +7,18 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 
 #include "dq/anim/animation.hpp"
 
 namespace dq {
 
 std::size_t resampled_frame_count(double seconds, double rate) {
-  return static_cast<std::size_t>(std::ceil(seconds * rate - 1e-9)) + 1;
+  const double steps = std::ceil(seconds * rate - 1e-9);
+  if (!(steps < 0x1p62)) return std::numeric_limits<std::size_t>::max();  // also NaN
+  return static_cast<std::size_t>(std::max(steps, 0.0)) + 1;
 }
+
 
 bool is_bvh_file(const std::filesystem::path& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
@@ -45,6 +49,7 @@ Status check_budget(std::size_t frames, std::size_t joints, const MotionOptions&
 
 Expected<Motion> from_bvh(Expected<BvhFile> bvh, const std::string& source, const MotionOptions& options) {
   if (!bvh) return bvh.error();
+  if (options.animation != 0) return Error{source + ": animation " + std::to_string(options.animation) + " requested, a BVH file has 1"};
   Expected<Skeleton> skeleton = bvh_skeleton(*bvh);
   if (!skeleton) return Error{source + ": " + skeleton.error().message};
   Motion m;
@@ -76,9 +81,16 @@ Expected<Motion> from_bvh(Expected<BvhFile> bvh, const std::string& source, cons
 
 }  // namespace
 
+bool has_bvh_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".bvh";
+}
+
 Expected<Motion> load_motion(const std::filesystem::path& path, const MotionOptions& options) {
   std::error_code ec;
-  if (std::filesystem::is_regular_file(path, ec) && !is_bvh_file(path))
+  // A file named .bvh is read as BVH whatever it holds, so that a damaged one gets the reader's error.
+  if (std::filesystem::is_regular_file(path, ec) && !is_bvh_file(path) && !has_bvh_extension(path))
     return Error{path.string() + ": not a BVH file (other formats are read by dq::import_motion, in dqkit::import, built with Assimp)"};
   return from_bvh(read_bvh_file(path), path.string(), options);  // missing files, directories, FIFOs: its errors
 }

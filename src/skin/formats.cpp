@@ -118,8 +118,8 @@ Expected<std::string> format_frame(const SkinnedFrame& f, MeshFormat format) {
   std::string out;
   switch (format) {
     case MeshFormat::csv:
-      out = "vertex,x,y,z\n";
-      for (std::size_t v = 0; v < n; ++v) append(out, "%zu,%.9g,%.9g,%.9g\n", v, double(f.px[v]), double(f.py[v]), double(f.pz[v]));
+      out = "vertex,x,y,z\r\n";  // CRLF, as RFC 4180 and dqkit fk's CSV
+      for (std::size_t v = 0; v < n; ++v) append(out, "%zu,%.9g,%.9g,%.9g\r\n", v, double(f.px[v]), double(f.py[v]), double(f.pz[v]));
       return out;
     case MeshFormat::obj:
       out = "# dqkit skinned frame\n";

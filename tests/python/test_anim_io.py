@@ -33,6 +33,9 @@ def test_skeleton_built_from_python():
     s = dqkit.Skeleton(raw)
     assert len(s) == 3 and list(s.parents) == [-1, 0, 1] and s.names == ["hips", "spine", "head"]
     assert s.find("spine") == 1 and s.find("tail") == -1 and s.is_end_site(2)
+    assert s.index("spine") == 1 and "spine" in s and "tail" not in s
+    with pytest.raises(KeyError, match="no joint named 'tail'"):
+        s.index("tail")  # never -1, which NumPy would take as the last joint
     model = dqkit.local_to_model(s, s.rest_pose)
     np.testing.assert_array_equal(dqkit.translation(model), [[0, 0, 0], [0, 1, 0], [0, 1.5, 0]])
     bad = dqkit.RawSkeleton()
@@ -80,18 +83,28 @@ def test_bvh_errors_name_file_and_line(tmp_path):
 def test_bvh_write_read_round_trip(tmp_path):
     bvh = dqkit.read_bvh_file(str(need(CMU_BVH)))
     out = tmp_path / "copy.bvh"
-    dqkit.write_bvh_file(bvh, str(out))
-    with pytest.raises(dqkit.ReadError):
+    dqkit.write_bvh_file(bvh, out)  # a pathlib.Path, as any os.PathLike
+    with pytest.raises(dqkit.WriteError, match="copy.bvh: already exists; .*overwrite=True"):
         dqkit.write_bvh_file(bvh, str(out))  # never replaces a file unless told
-    again = dqkit.read_bvh_file(str(out))
+    assert issubclass(dqkit.WriteError, OSError)
+    again = dqkit.read_bvh_file(out)
     assert [j.name for j in again.joints] == [j.name for j in bvh.joints]
     np.testing.assert_array_equal(again.motion, bvh.motion)
     assert dqkit.write_bvh(again) == out.read_text()
     # Changing the motion from NumPy, and another rotation order that keeps the transforms.
-    motion = bvh.motion
+    with pytest.raises(ValueError, match="read-only"):
+        bvh.motion[0, 0] = 1.0  # would change only a copy
+    motion = bvh.motion.copy()
     motion[:, 0] += 10
     bvh.motion = motion
     np.testing.assert_array_equal(bvh.motion[:, 0], again.motion[:, 0] + 10)
+    # What would not read back is refused before anything is written, naming the frame and channel.
+    motion[2, 4] = np.nan
+    bvh.motion = motion
+    before = out.read_text()
+    with pytest.raises(ValueError, match=r"cannot write BVH: frame 2, joint 0 \('Hips'\) Yrotation: the value is not finite"):
+        dqkit.write_bvh_file(bvh, out, overwrite=True)
+    assert out.read_text() == before
     zyx = dqkit.with_rotation_order(again, dqkit.EulerOrder.ZYX)
     s1, s2 = dqkit.bvh_skeleton(again), dqkit.bvh_skeleton(zyx)
     w1 = dqkit.local_to_model(s1, dqkit.bvh_animation(again, s1).locals[:50])

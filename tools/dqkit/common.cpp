@@ -35,18 +35,28 @@ CLI::Validator finite_in(double low, double high) {
       "NUMBER in (" + CLI::detail::to_string(low) + ", " + CLI::detail::to_string(high) + "]");
 }
 
-void add_input_options(CLI::App& c, InputOptions& o, const std::string& file_name) {
-  c.add_option(file_name, o.file, "Motion file: BVH (recognized by content), glTF, FBX, Collada, X, IQM, ...; - for standard input (BVH)")
-      ->required();
-  c.add_option("--animation", o.animation, "Which animation of a multi-animation file (from 0)")
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            std::size_t v = 0;
-            const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
-            return r.ec == std::errc() && r.ptr == text.data() + text.size() ? "" : "'" + text + "' is not an animation number (0, 1, ...)";
-          },
-          "INDEX"));
-  c.add_option("--rate", o.rate, "Frames per second: resample the animation (default: the file's own; imported clips 30)")
+CLI::Validator animation_index() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::size_t v = 0;
+        const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+        return r.ec == std::errc() && r.ptr == text.data() + text.size() ? "" : "'" + text + "' is not an animation number (0, 1, ...)";
+      },
+      "INDEX");
+}
+
+CLI::Validator file_name() {
+  return CLI::Validator([](std::string& text) -> std::string { return text.empty() ? "an empty file name ('-' is standard input or output)" : ""; },
+                        "FILE");
+}
+
+void add_input_options(CLI::App& c, InputOptions& o, const std::string& option_name) {
+  c.add_option(option_name, o.file, "Motion file: BVH (recognized by content), glTF, FBX, Collada, X, IQM, ...; - for standard input (BVH)")
+      ->required()
+      ->check(file_name());
+  c.add_option("--animation", o.animation, "Which animation of a multi-animation file (from 0)")->check(animation_index());
+  c.add_option("--rate", o.rate, "Frames per second: resample the animation at frames f / RATE; the last one, at or up to one frame past the "
+                 "end, holds the clip's last pose (default: the file's own; imported clips 30)")
       ->check(finite_in(0, 1000));
   c.add_option("--import-timeout", o.import_timeout, "Seconds before the importer (a separate process) is abandoned")
       ->check(finite_in(0, 86400));
@@ -142,6 +152,14 @@ void append_number(std::string& out, double v) {
   std::array<char, 32> buf{};
   const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v, std::chars_format::general, 17);
   out.append(buf.data(), r.ptr);
+}
+
+void append_json_number_or_null(std::string& out, double v) {
+  if (std::isfinite(v)) {
+    append_number(out, v);
+  } else {
+    out += "null";
+  }
 }
 
 void append_csv_field(std::string& out, std::string_view field) {

@@ -35,12 +35,16 @@ struct InputOptions {
   std::size_t memory_limit_mb = 4096;  ///< MotionOptions::memory_limit_mb
 };
 /// Adds `file`, --animation, --rate, --import-timeout and --memory-limit to a command.
-void add_input_options(CLI::App& command, InputOptions& options, const std::string& file_name = "file");
+void add_input_options(CLI::App& command, InputOptions& options, const std::string& option_name = "file");
 /// Loads the input (warnings printed); throws Failure.
 Motion load(const InputOptions& options);
 
 /// A CLI11 check: a finite number in (low, high].
 CLI::Validator finite_in(double low, double high);
+/// A file name: not empty ('-' names standard input or output).
+CLI::Validator file_name();
+/// An animation number: 0, 1, ...
+CLI::Validator animation_index();
 
 /// Where a command writes: standard output ("-" or empty) or a file written safely (OutputFile:
 /// created exclusively, or with `force` replacing only a regular file; never one of `inputs`,
@@ -63,6 +67,9 @@ bool is_stdout(const std::string& path);
 
 /// Shortest text that reads back as the same double ("%.17g" digits, via to_chars).
 void append_number(std::string& out, double v);
+/// append_number for a JSON value that may be beyond double's range (a rate of 1 ÷ a denormal frame
+/// time): null where it is not finite, as JSON has no ∞ or NaN.
+void append_json_number_or_null(std::string& out, double v);
 /// A CSV field (RFC 4180): quoted, with quotes doubled, when it holds a comma, quote, CR or LF.
 void append_csv_field(std::string& out, std::string_view field);
 /// A JSON string literal; bytes that are not UTF-8 become U+FFFD (the readers give UTF-8 names).

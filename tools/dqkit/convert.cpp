@@ -52,7 +52,8 @@ int run_convert(const ConvertArgs& args) {
   if (!keep_channels && m.animation.frame_count == 0)
     print_warnings({args.input.file + ": no animation; its rest pose is written as the one frame (BVH offsets hold no rotations)"});
   scale_lengths(*bvh, args.scale);
-  write_bvh(*bvh, [&](std::string_view chunk) { out.write(chunk); });
+  if (Status s = write_bvh(*bvh, [&](std::string_view chunk) { out.write(chunk); }); !s)
+    throw Failure(args.input.file + ": " + s.error().message + (args.scale != 1 ? " (after --scale)" : ""));
   out.finish();
   return 0;
 }
@@ -62,7 +63,7 @@ int run_convert(const ConvertArgs& args) {
 Runner define_convert(CLI::App& c) {
   auto args = std::make_shared<ConvertArgs>();
   add_input_options(c, args->input, "input");
-  c.add_option("output", args->output, "BVH file to write (- for standard output)")->required();
+  c.add_option("output", args->output, "BVH file to write (- for standard output)")->required()->check(file_name());
   c.add_option("--rotation-order", args->rotation_order, "Euler order of the rotation channels (BVH: the six Tait-Bryan orders)")
       ->check(CLI::IsMember({"XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX"}));
   c.add_flag("--force", args->force, "Replace the output file if it exists (a regular file only)");

@@ -27,7 +27,7 @@ int run_fix_feet(const FixFeetArgs& args) {
   options.feet = args.feet;
   const Expected<FixFeetReport> report = fix_foot_sliding(*m.bvh, options);
   if (!report) throw Failure(args.input.file + ": " + report.error().message);
-  write_bvh(*m.bvh, [&](std::string_view chunk) { out.write(chunk); });
+  if (Status s = write_bvh(*m.bvh, [&](std::string_view chunk) { out.write(chunk); }); !s) throw Failure(s.error().message);
   out.finish();
   // The report goes to standard error: standard output may be the BVH itself.
   for (const FootContactReport& f : report->feet)
@@ -44,7 +44,7 @@ int run_fix_feet(const FixFeetArgs& args) {
 Runner define_fix_feet(CLI::App& c) {
   auto args = std::make_shared<FixFeetArgs>();
   add_input_options(c, args->input, "input");
-  c.add_option("-o,--output", args->output, "BVH file to write (- or omitted: standard output)");
+  c.add_option("-o,--output", args->output, "BVH file to write (- or omitted: standard output)")->check(file_name());
   c.add_flag("--force", args->force, "Replace the output file if it exists (a regular file only)");
   c.add_option("--feet", args->feet, "Foot joints, comma-separated (default: found by name: Toe, else Foot, else Ankle)")
       ->delimiter(',');

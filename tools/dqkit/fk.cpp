@@ -1,4 +1,6 @@
 // dqkit fk: each joint's transform per frame (world or parent-relative), streamed as CSV or JSON.
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <numbers>
 #include <unordered_map>
@@ -138,6 +140,10 @@ int run_fk(const FkArgs& args) {
       const std::size_t j = joints[k];
       const Vec3<double> p = shown[j].translation() * args.scale;
       const std::size_t n = rotation_numbers(shown[j].real);
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) ||
+          !std::all_of(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(n), [](double v) { return std::isfinite(v); }))
+        throw Failure(args.input.file + ": frame " + std::to_string(f) + ", joint '" + s.names()[j] + "': the transform is not finite (its lengths" +
+                      (args.scale != 1 ? " times --scale" : "") + " overflow a double); nothing is written to a file");
       if (csv) {
         t += std::to_string(f);
         if (args.time) (t += ','), append_number(t, time);
@@ -183,7 +189,7 @@ Runner define_fk(CLI::App& c) {
                               "comma-separated and mixable, e.g. 0,10:20,::5 (default: 0)");
   c.add_flag("--all", args->all, "Every frame")->excludes(frames);
   c.add_option("--format", args->format, "Output format: csv (RFC 4180) or json")->check(CLI::IsMember({"csv", "json"}));
-  c.add_option("-o,--output", args->output, "Write to this file instead of standard output (- for standard output)");
+  c.add_option("-o,--output", args->output, "Write to this file instead of standard output (- for standard output)")->check(file_name());
   c.add_flag("--force", args->force, "Replace the output file if it exists (a regular file only)");
   c.add_option("--space", args->space, "world (model space) or local (relative to the parent)")->check(CLI::IsMember({"world", "local"}));
   c.add_option("--rotation", args->rotation, "quaternion (w x y z, w >= 0), matrix (3x3, row by row) or euler")

@@ -55,9 +55,9 @@ int run_info(const InfoArgs& args) {
     t += ",\"animations\":" + std::to_string(m.animation_count) + ",\"frames\":" + std::to_string(a.frame_count) + ",\"frame_time\":";
     append_number(t, a.frame_time);
     t += ",\"rate\":";
-    append_number(t, rate);
+    append_json_number_or_null(t, rate);
     t += ",\"duration\":";
-    append_number(t, a.duration());
+    append_json_number_or_null(t, a.duration());
     if (m.scene) {
       t += ",\"meshes\":" + std::to_string(m.scene->meshes.size()) + ",\"skinned_meshes\":" + std::to_string(skinned) +
            ",\"vertices\":" + std::to_string(vertices) + ",\"animation_list\":[";
@@ -124,7 +124,7 @@ Runner define_info(CLI::App& c) {
   auto args = std::make_shared<InfoArgs>();
   add_input_options(c, args->input);
   c.add_option("--format", args->format, "Output format")->check(CLI::IsMember({"text", "json"}));
-  c.add_option("-o,--output", args->output, "Write to this file instead of standard output (- for standard output)");
+  c.add_option("-o,--output", args->output, "Write to this file instead of standard output (- for standard output)")->check(file_name());
   c.add_flag("--force", args->force, "Replace the output file if it exists (a regular file only)");
   return [args] { return run_info(*args); };
 }

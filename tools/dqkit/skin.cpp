@@ -41,7 +41,7 @@ Runner define_skin(CLI::App& c) {
   c.add_option("--method", a->method, "lbs (linear blend), dqs (dual quaternion, default), cor (centres of rotation)")
       ->check(CLI::IsMember({"lbs", "dqs", "cor"}));
   c.add_option("--format", a->format, "csv (vertex,x,y,z), obj, ply or gltf")->check(CLI::IsMember({"csv", "obj", "ply", "gltf"}));
-  c.add_option("-o,--output", a->output, "Write to this file instead of standard output");
+  c.add_option("-o,--output", a->output, "Write to this file instead of standard output")->check(file_name());
   c.add_flag("--force", a->force, "Replace the output file if it exists");
   return [a] { return run_skin(*a); };
 }

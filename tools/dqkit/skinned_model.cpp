@@ -6,12 +6,12 @@
 namespace dq::cli {
 
 void add_skinned_model_options(CLI::App& c, SkinnedModelOptions& o) {
-  c.add_option("file", o.file, "Skinned model (glTF, FBX, Collada, X, ...)")->required();
+  c.add_option("file", o.file, "Skinned model (glTF, FBX, Collada, X, ...)")->required()->check(file_name());
   c.add_option("--time", o.time, "Seconds into the animation (clamped to its duration; no animation: the rest pose)")
       ->check(finite_in(-1e9, 1e9));
-  c.add_option("--animation", o.animation, "Which animation of a multi-animation file (from 0)");
+  c.add_option("--animation", o.animation, "Which animation of a multi-animation file (from 0)")->check(animation_index());
   c.add_option("--import-timeout", o.import_timeout, "Seconds before the importer (a separate process) is abandoned")
-      ->check(CLI::Range(0.001, 86400.0));
+      ->check(finite_in(0, 86400));
 }
 
 SkinnedModel load_skinned_model(const SkinnedModelOptions& o) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -49,14 +50,23 @@ DualQuaternion<T> interpolate(const DualQuaternion<T>& a, const DualQuaternion<T
 }
 
 /// Samples the animation at `time` (seconds) into `out` (any scalar type). An animation with no
-/// frames leaves `out` unchanged; one frame is constant. Precondition: one output per joint.
+/// frames leaves `out` unchanged; one frame is constant. With WrapMode::clamp a time beyond the
+/// ends, ±∞ included, gives the first or the last frame; a NaN time, or an infinite one with
+/// WrapMode::loop (no phase), gives NaN transforms (docs/reliability.md, the NaN policy).
+/// Precondition: one output per joint.
 template <class T>
 void sample(const Animation& anim, double time, Interpolation mode, WrapMode wrap, std::span<DualQuaternion<T>> out) {
   DQ_PRECONDITION(out.size() == anim.joint_count, "sample needs one output per joint of the animation");
   if (anim.frame_count == 0) return;
   const double n = static_cast<double>(anim.frame_count);
-  double x = anim.frame_time > 0 ? time / anim.frame_time : 0;  // in frames
-  if (!std::isfinite(x)) x = 0;
+  const double x_unwrapped = anim.frame_time > 0 ? time / anim.frame_time : 0;  // in frames; ±∞ where it overflows
+  if (std::isnan(time) || std::isnan(x_unwrapped) || (wrap == WrapMode::loop && std::isinf(x_unwrapped))) {
+    const T nan = T(std::numeric_limits<real_t<T>>::quiet_NaN());
+    const Quaternion<T> q(nan, nan, nan, nan);
+    for (DualQuaternion<T>& o : out) o = DualQuaternion<T>(q, q);
+    return;
+  }
+  double x = x_unwrapped;
   if (wrap == WrapMode::loop) {
     x = std::fmod(x, n);
     if (x < 0) x += n;

@@ -68,11 +68,19 @@ Expected<BvhFile> read_bvh(std::string_view text, std::string_view source = "<bv
 /// FIFO or socket is an error, found without blocking); errors name the file.
 Expected<BvhFile> read_bvh_file(const std::filesystem::path& path);
 
+/// Whether write_bvh can write `bvh` as text that read_bvh reads back as the same file: a root
+/// first, parents before their children, at most 6 channels per joint, End Sites without channels
+/// or children, names read_bvh accepts (UTF-8, no braces, single spaces between words), finite
+/// offsets and motion values, a finite positive frame time, and frame_count × channel_count()
+/// motion values. The error names the joint, or the frame and channel.
+Status check_writable(const BvhFile& bvh);
 /// The BVH text of a file: numbers in shortest round-trip form, so reading it back gives the same
-/// values bit for bit; tabs for indentation, '\n' line endings.
-std::string write_bvh(const BvhFile& bvh);
-/// The same text in pieces of about 64 KiB, for writing a long capture without holding it whole.
-void write_bvh(const BvhFile& bvh, const std::function<void(std::string_view)>& sink);
+/// values bit for bit; tabs for indentation, '\n' line endings. An error (check_writable) where
+/// the text could not be read back.
+Expected<std::string> write_bvh(const BvhFile& bvh);
+/// The same text in pieces of about 64 KiB, for writing a long capture without holding it whole;
+/// check_writable first, so that on an error nothing reaches `sink`.
+Status write_bvh(const BvhFile& bvh, const std::function<void(std::string_view)>& sink);
 
 /// Changes every joint's rotation channels to `order` (intrinsic, as BVH means it), converting
 /// each frame's angles so that every local rotation is the same (to rounding). Joints with fewer

@@ -30,8 +30,8 @@ struct Motion {
 struct MotionOptions {
   std::size_t animation = 0;  ///< which animation of a multi-animation file (a BVH file has one)
   /// Frames per second of the result, 0 < rate ≤ 1000; 0: the file's own (BVH), 30 (imported
-  /// clips, which Assimp gives as keys). A BVH file is resampled by screw interpolation; the last
-  /// frame is always the clip's end (resampled_frame_count).
+  /// clips, which Assimp gives as keys). A BVH file is resampled by screw interpolation at
+  /// f / rate; the last frame holds the clip's end (resampled_frame_count).
   double sample_rate = 0;
   double import_timeout = 120;  ///< seconds before an isolated import is abandoned
   /// The most the animation (frames × joints × 64 bytes) may take; beyond it an error, before
@@ -39,18 +39,27 @@ struct MotionOptions {
   std::size_t memory_limit_mb = 4096;
 };
 
-/// Frames that cover `seconds` at `rate` with the last one on the end: ⌈seconds × rate⌉ + 1
-/// (a clip of 1.03 s at 30 Hz has 32 frames; the last one is at 1.03 s, not 1.0 s).
+/// Frames that cover `seconds` at `rate`: ⌈seconds × rate⌉ + 1, at exactly f / rate, so that a
+/// source whose frames lie on the grid keeps them (120 Hz to 30 Hz: every 4th). The last frame lies
+/// at or up to one frame past the end and holds the clip's last pose (a clip of 1.03 s at 30 Hz has
+/// 32 frames, the last at 31/30 s with the pose of 1.03 s): nothing of the clip is lost, and the
+/// resampled duration is at most one frame longer. Saturates at the largest std::size_t where the
+/// count would not fit (a memory budget then refuses it).
 std::size_t resampled_frame_count(double seconds, double rate);
+
 
 /// Whether the file's content is BVH (after an optional UTF-8 byte-order mark and whitespace,
 /// the word HIERARCHY), whatever its name. Never blocks (FIFOs and devices are not BVH).
 bool is_bvh_file(const std::filesystem::path& path);
 /// The same test on the start of a text.
 bool looks_like_bvh(std::string_view text);
+/// Whether the file's name ends in .bvh (any case): load_motion and import_motion read such a file
+/// as BVH whatever it holds, so that a damaged one gets the BVH reader's error ("file:line: ...").
+bool has_bvh_extension(const std::filesystem::path& path);
 
-/// Reads a BVH file (recognized by content) into a skeleton and its animation. Any other file is
-/// an error that names import_motion, which reads the other formats.
+/// Reads a BVH file (recognized by content, or by its name: has_bvh_extension) into a skeleton and
+/// its animation. Any other file is an error that names import_motion, which reads the other
+/// formats; so is MotionOptions::animation other than 0 (a BVH file has one animation).
 Expected<Motion> load_motion(const std::filesystem::path& path, const MotionOptions& options = {});
 /// The same from BVH text in memory (standard input); `source` names it in errors.
 Expected<Motion> read_motion(std::string_view bvh_text, std::string_view source, const MotionOptions& options = {});

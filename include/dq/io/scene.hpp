@@ -23,7 +23,7 @@
 namespace dq {
 
 struct ImportOptions {
-  double sample_rate = 30;  ///< frames per second for resampled animations (0 < rate ≤ 1000)
+  double sample_rate = 30;  ///< frames per second for resampled animations (0 < rate ≤ 1000; resampled_frame_count)
   bool meshes = true;       ///< import mesh geometry and skins (a broken mesh is left out with a warning)
   bool lights_and_cameras = false;  ///< keep light and camera nodes (leaves without meshes) as joints
   /// Run Assimp in a helper process. Assimp 5.2 crashes, hangs or exhausts memory on some
