@@ -395,6 +395,7 @@ TEST_F(CliScript, EveryMisuseGetsAClearMessage) {
       {"info /dev/zero", "/dev/zero: is not a regular file"},
       {"fk " + p("a.bvh") + " -o /dev/null", "/dev/null: is not a regular file (a symbolic link, device, FIFO or socket): dqkit writes only regular files"},
       {"fk ''", "an empty file name"},
+      {"fk " + p("a.bvh") + " --degrees", "--degrees applies to Euler angles: add --rotation euler"},
       {"frobnicate x", "unknown command 'frobnicate' (commands: info, fk, convert"},
       {"fk " + p("a.bvh") + " --rate nan", "--rate: 'nan' is not a finite number"},
       {"fk " + p("a.bvh") + " --import-timeout nan", "--import-timeout: 'nan' is not a finite number"},

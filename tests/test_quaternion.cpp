@@ -96,6 +96,11 @@ TYPED_TEST(QuaternionTyped, AxisAngleIsExactAtZeroPiAndTwoPi) {
   EXPECT_EQ(Quaternion<T>::from_axis_angle(z, pi_v<T>), Quaternion<T>(0, 0, 0, 1));
   EXPECT_EQ(Quaternion<T>::from_axis_angle(z, T(2) * pi_v<T>), Quaternion<T>(-1, 0, 0, 0));
   EXPECT_EQ(Quaternion<T>::from_axis_angle(z, -pi_v<T>), Quaternion<T>(0, 0, 0, -1));
+  // The same rotations as rotation vectors.
+  EXPECT_EQ(Quaternion<T>::from_rotation_vector(z * pi_v<T>), Quaternion<T>(0, 0, 0, 1));
+  EXPECT_EQ(Quaternion<T>::from_rotation_vector(Vec3<T>{pi_v<T>, 0, 0}), Quaternion<T>(0, 1, 0, 0));
+  EXPECT_EQ(Quaternion<T>::from_rotation_vector(z * (T(2) * pi_v<T>)), Quaternion<T>(-1, 0, 0, 0));
+  EXPECT_EQ(Quaternion<T>::from_rotation_vector(z * -pi_v<T>), Quaternion<T>(0, 0, 0, -1));
   // A half turn maps x to −x exactly.
   EXPECT_EQ(Quaternion<T>::from_axis_angle(z, pi_v<T>).rotate(Vec3<T>{1, 0, 0}), (Vec3<T>{-1, 0, 0}));
   const AxisAngle<T> aa = Quaternion<T>(0, 0, 0, 1).to_axis_angle();

@@ -113,6 +113,13 @@ TEST_F(SkinCli, ErrorsSayWhat) {
   r = run("skin " + (dir_ / "missing.gltf").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("missing.gltf"), std::string::npos) << r.err;
+  r = run("render " + model("X/Testwuson.X") + " --time 2 --until 1 --out " + (dir_ / "z.png").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("--until (1 s) is before --time (2 s)"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "z.png"));
+  r = run("skin " + model("X/Testwuson.X") + " --import-timeout 0");  // the same validators as the other commands
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("--import-timeout: '0' is out of range (0, 86400]"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -26,15 +26,20 @@ std::vector<int> parents_of(py::handle obj) {
     const auto p = obj.cast<const dq::Skeleton&>().parents();
     return {p.begin(), p.end()};
   }
-  const auto a = py::array_t<int, py::array::c_style | py::array::forcecast>::ensure(obj);
-  if (!a || a.ndim() != 1) {
-    throw py::value_error("parents: expected a Skeleton or a sequence of J ints, shape (J,)");
-  }
-  std::vector<int> p(a.data(), a.data() + a.size());
-  for (std::size_t j = 0; j < p.size(); ++j)
-    if (p[j] < -1 || p[j] >= static_cast<int>(j))
-      throw py::value_error("parents: joint " + std::to_string(j) + " has parent " + std::to_string(p[j]) +
+  const py::array any = py::array::ensure(obj);
+  if (!any || any.ndim() != 1) throw py::value_error("parents: expected a Skeleton or a sequence of J ints, shape (J,)");
+  if (any.size() > 0 && any.dtype().kind() != 'i')  // never a silent truncation of 0.7 to 0; −1 needs a signed type
+    throw py::value_error("parents: expected signed integers (−1 marks a root), got dtype " + py::str(any.dtype()).cast<std::string>());
+  // Checked in 64 bits before narrowing, so that 2**40 is not read as another parent.
+  const auto values = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(any);
+  std::vector<int> p(static_cast<std::size_t>(values.size()));
+  for (std::size_t j = 0; j < p.size(); ++j) {
+    const std::int64_t v = values.data()[j];
+    if (v < -1 || v >= static_cast<std::int64_t>(j))
+      throw py::value_error("parents: joint " + std::to_string(j) + " has parent " + std::to_string(v) +
                             "; every parent must be −1 or come before its child");
+    p[j] = static_cast<int>(v);
+  }
   return p;
 }
 

@@ -1,5 +1,7 @@
 // Inverse kinematics (dq::IkSolver over KinematicModel and IkTask) and skinning (Skin, SceneSkin,
 // batch skinning of (V, 3) vertices).
+#include <cstdio>
+
 #include "common.hpp"
 #include "dq/ik/kinematic_model.hpp"
 #include "dq/ik/motion_capture.hpp"
@@ -94,8 +96,11 @@ void bind_ik_types(py::module_& m) {
       .def_readonly("orientation_error", &dq::IkResult::orientation_error)
       .def_property_readonly("message", [](const dq::IkResult& r) { return std::string(r.message); })
       .def("__repr__", [](const dq::IkResult& r) {
+        // Errors in %.3g: a converged solve's 1e-12 would print as 0.000000 in %f.
+        char errors[96];
+        std::snprintf(errors, sizeof errors, ", position_error=%.3g, orientation_error=%.3g", r.position_error, r.orientation_error);
         return "IkResult(status=" + py::str(py::cast(r.status)).cast<std::string>() + ", iterations=" + std::to_string(r.iterations) +
-               ", position_error=" + std::to_string(r.position_error) + ")";
+               errors + (*r.message ? ", message='" + std::string(r.message) + "'" : std::string()) + ")";
       });
   // A solver owns a workspace: solve() keeps the GIL, so one solver is safe from several threads
   // (one at a time); solvers of their own let threads solve in turn without sharing anything.

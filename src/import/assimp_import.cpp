@@ -332,13 +332,21 @@ ImportRequest make_request(bool from_memory, std::string path_or_hint, std::vect
 namespace {
 /// Assimp's FBX reader adds "$AssimpFbx$" pivot nodes unless told to fold them into the joints.
 void configure(Assimp::Importer& importer) { importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false); }
+/// Assimp's reason for a failed read; it reports running out of memory as the bare "std::bad_alloc".
+Error read_failure(const std::string& source, const Assimp::Importer& importer) {
+  const std::string why = importer.GetErrorString();
+  if (why == "std::bad_alloc")
+    return Error{source + ": the importer ran out of memory on this file (std::bad_alloc): a damaged file, or one that needs "
+                          "more than the importer's memory limit (ImportOptions::memory_limit_mb)"};
+  return Error{source + ": " + why};
+}
 }  // namespace
 
 Expected<ImportedScene> import_file_in_process(const std::filesystem::path& path, const ImportOptions& options) {
   Assimp::Importer importer;
   configure(importer);
   const aiScene* scene = importer.ReadFile(path.string(), options.meshes ? kFlags : aiProcess_ValidateDataStructure);
-  if (!scene) return Error{path.string() + ": " + importer.GetErrorString()};
+  if (!scene) return read_failure(path.string(), importer);
   return SceneBuilder(*scene, options, path.string()).build();
 }
 
@@ -346,7 +354,7 @@ Expected<ImportedScene> import_memory_in_process(std::span<const std::uint8_t> d
   Assimp::Importer importer;
   configure(importer);
   const aiScene* scene = importer.ReadFileFromMemory(data.data(), data.size(), options.meshes ? kFlags : aiProcess_ValidateDataStructure, hint.c_str());
-  if (!scene) return Error{"<memory." + hint + ">: " + importer.GetErrorString()};
+  if (!scene) return read_failure("<memory." + hint + ">", importer);
   return SceneBuilder(*scene, options, "<memory." + hint + ">").build();
 }
 

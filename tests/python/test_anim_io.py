@@ -62,6 +62,11 @@ def test_batch_forward_kinematics_on_cmu():
         np.testing.assert_array_equal(model[f], [np.asarray(w) for w in world])
     # One pose, float32, and parents given as a list.
     np.testing.assert_array_equal(dqkit.local_to_model(list(skeleton.parents), local[5]), model[5])
+    # Parents must be signed integers, checked before narrowing: never truncated or wrapped.
+    for bad, message in (([-1, 0.7], "expected signed integers"), (np.array([0, 1], np.uint8), "expected signed integers"),
+                         ([-1, 2**40], "joint 1 has parent 1099511627776")):
+        with pytest.raises(ValueError, match=message):
+            dqkit.local_to_model(bad, local[5][:2])
     m32 = dqkit.local_to_model(skeleton, local.astype(np.float32))
     assert m32.dtype == np.float32
     # float32 world positions of a 30-joint chain: errors accumulate along the chain (≈ depth ×
@@ -149,6 +154,11 @@ def test_ik_reaches_a_target():
     assert model.within_limits(q)
     with pytest.raises(ValueError, match=r"q: expected a writable contiguous float64 array of shape \(7,\)"):
         solver.solve([dqkit.IkTask.reach(effector, target)], np.zeros(3))
+    # Invalid input says what is wrong, also in the repr; errors print in %g, not as 0.000000.
+    bad = solver.solve([dqkit.IkTask.reach(effector, target)], np.full(n, np.nan))
+    assert bad.status == dqkit.IkStatus.invalid_input and bad.message == "q has a non-finite value"
+    assert "message='q has a non-finite value'" in repr(bad)
+    assert "position_error=0.000000" not in repr(result), repr(result)
 
 
 def numpy_dqs(positions, bones, weights, bone_world_times_inverse_bind):

@@ -55,6 +55,7 @@ std::vector<std::size_t> selected_joints(const Skeleton& s, const std::vector<st
 }
 
 int run_fk(const FkArgs& args) {
+  if (args.degrees && args.rotation != "euler") throw Failure("--degrees applies to Euler angles: add --rotation euler");
   const Motion m = load(args.input);
   const Skeleton& s = m.skeleton;
   const Animation& a = m.animation;

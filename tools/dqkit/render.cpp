@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <thread>
 
 #include "commands.hpp"
@@ -18,7 +19,7 @@ namespace {
 
 struct RenderArgs {
   SkinnedModelOptions model;
-  double until = -1;
+  std::optional<double> until;  ///< the last time of a sequence; none: one picture
   double fps = 30;
   std::string method = "all";
   std::string output;
@@ -45,8 +46,10 @@ int run_render(const RenderArgs& a) {
   }
   // The times to draw; a sequence writes NAME_0000.png, NAME_0001.png, ...
   std::vector<double> times{a.model.time};
-  if (a.until >= a.model.time) {
-    const auto count = static_cast<std::size_t>(std::floor((a.until - a.model.time) * a.fps + 1e-9)) + 1;
+  if (a.until) {
+    if (*a.until < a.model.time)
+      throw Failure("--until (" + CLI::detail::to_string(*a.until) + " s) is before --time (" + CLI::detail::to_string(a.model.time) + " s)");
+    const auto count = static_cast<std::size_t>(std::floor((*a.until - a.model.time) * a.fps + 1e-9)) + 1;
     if (count > 100000) throw Failure("--until: the sequence would have more than 100000 frames");
     times.clear();
     for (std::size_t i = 0; i < count; ++i) times.push_back(a.model.time + static_cast<double>(i) / a.fps);

@@ -193,7 +193,8 @@ struct Quaternion {
   }
 
   /// From a rotation vector (axis × angle, radians): exp of the pure quaternion v/2. Smooth
-  /// through v = 0 (values and derivatives), exact for rotations so small their square underflows.
+  /// through v = 0 (values and derivatives), exact for rotations so small their square underflows,
+  /// and exact, as from_axis_angle, where |v|/2 is a multiple of π/2 as rounded (π and 2π about an axis).
   static Quaternion from_rotation_vector(const Vec3<T>& v) { return detail::exp_pure(v * T(0.5)); }
   /// The rotation vector of the canonical representative, |v| ∈ [0, π]: 2 log(q) for unit q.
   /// Smooth through the identity (values and derivatives).
@@ -433,11 +434,10 @@ Quaternion<T> exp_pure(const Vec3<T>& v) {
   const T theta2 = dot(v, v);
   auto theta = [&] { return norm(v); };
   if constexpr (!has_derivatives_v<T>) {  // values: one angle, sin and cos of it (one sincos)
-    using std::cos;
-    using std::sin;
     if (theta2 < square_root_epsilon<real_t<T>>) return {T(1) - theta2 / T(2), v * (T(1) - theta2 / T(6))};
     const T a = angle_from_squared(theta2, theta);
-    return {cos(a), v * (sin(a) / a)};
+    const SinCos<T> sc = sin_cos(a);  // exact at multiples of π/2, as from_axis_angle
+    return {sc.cos, v * (sc.sin / a)};
   }
   return {cos_of_squared(theta2, theta), v * sinc_of_squared(theta2, theta)};
 }
