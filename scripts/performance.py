@@ -125,35 +125,47 @@ IK = (("ArmDualQuaternionLM", "dqkit LM, dual quaternions, 7-DOF arm"), ("ArmMat
       ("BipedFourEffectors<MatrixIkSolver>", "dqkit LM, biped, 4x4 matrices"))
 
 
+def ik_case(k, prefix):
+    """The case of bench_ik whose name starts with `prefix` and its argument ("ArmKdlLMA/iterations:2000")."""
+    return next(r for name, r in k.items() if name.startswith(prefix + "/"))
+
+
 def ik_table(add, k):
     """bench_ik: solves per second and success, dqkit's solvers against KDL's on the same targets (docs/ik.md)."""
     add("")
     add("### Inverse kinematics (bench_ik, random interleaving; success within 1e-9 m and rad and the limits, docs/ik.md)")
     add("| solver | solves/s | median µs per solve | iterations | success (1e-9) | × KDL LMA solves/s |")
     add("| --- | ---: | ---: | ---: | ---: | ---: |")
-    lma = next(r for name, r in k.items() if name.startswith("ArmKdlLMA"))["solves_per_s"]
+    lma = ik_case(k, "ArmKdlLMA")["solves_per_s"]
     for prefix, label in IK:
-        r = next(r for name, r in k.items() if name.startswith(prefix + "/"))
+        r = ik_case(k, prefix)
         iterations = f"{r['iterations']:.1f}" if r["iterations"] > 0 else "—"  # KDL's NR_JL does not report them
         add(f"| {label} | {r['solves_per_s']:,.0f} | {r['median_us']:.1f} | {iterations} | "
             f"{100 * r['success_rate']:.1f} % | {r['solves_per_s'] / lma:.2f} |")
 
 
 def run_suite(build):
-    """Runs every benchmark binary and keeps the raw results in docs/performance.json."""
+    """Runs every benchmark binary and keeps the raw results in docs/performance.json. bench_skin
+    (GLM) and bench_ik (KDL) are left out where the build has no such target."""
+    targets = quiet(["cmake", "--build", build, "--target", "help"])
+    optional = [name for name in ("bench_skin", "bench_ik") if name in targets.split()]
     # Brought up to date first: a binary older than the sources would be measured as if it were them.
-    quiet(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_batch", "bench_core", "bench_skin", "bench_ik"])
+    quiet(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_batch", "bench_core", *optional])
     results = {"bench_batch": run(build, "bench_batch"), "bench_core": run(build, "bench_core"),
-               "bench_core_avx2": run(build_avx2(), "bench_core"), "bench_skin": run(build, "bench_skin"),
-               "bench_ik": run(build, "bench_ik", ["--benchmark_enable_random_interleaving=true"])}
+               "bench_core_avx2": run(build_avx2(), "bench_core")}
+    if "bench_skin" in optional:
+        results["bench_skin"] = run(build, "bench_skin")
+    if "bench_ik" in optional:
+        results["bench_ik"] = run(build, "bench_ik", ["--benchmark_enable_random_interleaving=true"])
     with open(os.path.join(ROOT, "docs", "performance.json"), "w") as f:
         json.dump(results, f, indent=1)
     return results
 
 
 def main(results):
-    batch, core, core_avx2, skin, ik = (results[k] for k in ("bench_batch", "bench_core", "bench_core_avx2", "bench_skin", "bench_ik"))
-    b, c, c_avx2, s, k = medians(batch), medians(core), medians(core_avx2), medians(skin), medians(ik)
+    batch, core, core_avx2, skin, ik = (results.get(k) for k in ("bench_batch", "bench_core", "bench_core_avx2", "bench_skin", "bench_ik"))
+    b, c, c_avx2 = medians(batch), medians(core), medians(core_avx2)
+    s, k = (medians(r) if r else None for r in (skin, ik))
     ctx = batch["context"]
     copy1 = b["Copy/1/real_time"]["bytes_per_second"]
 
@@ -237,8 +249,10 @@ def main(results):
     add("")
     one_at_a_time(add, c, "portable build")
     one_at_a_time(add, c_avx2, "built with `-mavx2 -mfma`")
-    skinning_tables(add, s, skin["context"])
-    ik_table(add, k)
+    if s:
+        skinning_tables(add, s, skin["context"])
+    if k:
+        ik_table(add, k)
 
     page = os.path.join(ROOT, "docs", "performance.md")
     text = open(page).read()
@@ -274,17 +288,20 @@ def main(results):
               "to 3x4 matrices vs GLM dq": b["ToMatricesDispatched"]["per_s"] / b["ToMatricesGlmDualquat"]["per_s"],
               "normalize vs GLM dq": b["NormalizeDispatched"]["per_s"] / b["NormalizeGlmDualquat"]["per_s"],
               "dlb vs GLM dq": b["DlbDispatched"]["per_s"] / b["DlbGlmDualquat"]["per_s"],
-              "sclerp arrays vs scalar sclerp": b["SclerpDispatched"]["per_s"] / b["SclerpScalar"]["per_s"],
-              "DQS skinning vs GLM mat4 LBS": s["dqkit_skinning/dqs/1/real_time"]["vertices_per_s"] / s["glm_lbs/1/real_time"]["vertices_per_s"],
-              "DQS skinning vs GLM dualquat DQS": s["dqkit_skinning/dqs/1/real_time"]["vertices_per_s"] / s["glm_dqs/1/real_time"]["vertices_per_s"],
-              "IK LM vs KDL LMA (solves/s)": k["ArmDualQuaternionLM/iterations:2000"]["solves_per_s"] / k["ArmKdlLMA/iterations:2000"]["solves_per_s"]}
+              "sclerp arrays vs scalar sclerp": b["SclerpDispatched"]["per_s"] / b["SclerpScalar"]["per_s"]}
+    if s:
+        dqs = s["dqkit_skinning/dqs/1/real_time"]["vertices_per_s"]
+        ratios["DQS skinning vs GLM mat4 LBS"] = dqs / s["glm_lbs/1/real_time"]["vertices_per_s"]
+        ratios["DQS skinning vs GLM dualquat DQS"] = dqs / s["glm_dqs/1/real_time"]["vertices_per_s"]
+    if k:
+        ratios["IK LM vs KDL LMA (solves/s)"] = ik_case(k, "ArmDualQuaternionLM")["solves_per_s"] / ik_case(k, "ArmKdlLMA")["solves_per_s"]
     ax[1].barh(list(ratios), list(ratios.values()))
     ax[1].axvline(1.0, color="grey", linestyle=":")
     ax[1].set_xscale("log")
     ax[1].set_xlabel("dqkit speed ÷ peer speed (same run)")
     ax[1].set_title("Ratios to the peers")
     methods = (("LBS", "lbs"), ("DQS", "dqs"), ("CoR", "cor"))
-    for i, threads in enumerate((1, 2)):
+    for i, threads in enumerate((1, 2) if s else ()):
         triad = float(skin["context"][f"triad_GBps_{threads}thread"]) * 1e9
         ax[2].bar([m + (i - 0.5) * 0.38 for m in range(len(methods))],
                   [s[f"dqkit_skinning/{name}/{threads}/real_time"]["bytes_per_second"] / triad for _, name in methods], 0.38,
@@ -293,7 +310,7 @@ def main(results):
     ax[2].axhline(1.0, color="grey", linestyle=":")
     ax[2].axhline(0.7, color="tab:red", linestyle="--", label="target for DQS (0.7)")
     ax[2].set_ylabel("fraction of the triad bandwidth, same thread count")
-    ax[2].set_title("Skinning, 4 influences, positions and normals")
+    ax[2].set_title("Skinning, 4 influences, positions and normals" if s else "Skinning: bench_skin not built (needs GLM)")
     ax[2].set_ylim(0, 1.5 * max(1.0, ax[2].get_ylim()[1]))  # room for the legend above the bars
     ax[2].legend(loc="upper left", fontsize="small")
     fig.savefig(os.path.join(ROOT, "docs", "performance.png"), dpi=80)

@@ -190,6 +190,18 @@ TEST(Hostile, TheWriterRefusesWhatWouldNotReadBack) {
   EXPECT_NE(refusal([&](BvhFile& b) { b.joints[0].name = "two  spaces"; }).find("would not read back"), std::string::npos);
   EXPECT_NE(refusal([&](BvhFile& b) { b.joints[1].parent = 1; }).find("joint 1 ('knee'): its parent must come before it"), std::string::npos);
   EXPECT_NE(refusal([&](BvhFile& b) { b.joints[2].channels.push_back(BvhChannel::Xrotation); }).find("an End Site has no channels"), std::string::npos);
+  EXPECT_NE(refusal([&](BvhFile& b) { b.joints[1].channels = {BvhChannel::Xrotation, BvhChannel::Xrotation}; }).find(
+                "joint 1 ('knee'): channel Xrotation repeated"),
+            std::string::npos);
+  // Parents before children, but not depth first: hip, knee (hip), toe (hip), End Site (knee).
+  // The writer would close knee's block before toe and could not reopen it for the End Site.
+  EXPECT_NE(refusal([&](BvhFile& b) {
+              b.joints[2].end_site = false;
+              b.joints[2].name = "toe";
+              b.joints[2].parent = 0;
+              b.joints.push_back({"knee_End", 1, {0, -1, 0}, {}, true, 4});
+            }).find("joint 3 ('knee_End'): the joints are not in depth-first order"),
+            std::string::npos);
   // Names with single inner spaces read back as they were.
   BvhFile spaced = *good;
   spaced.joints[1].name = "left knee";

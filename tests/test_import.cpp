@@ -10,6 +10,7 @@
 
 #include "dq/anim/forward_kinematics.hpp"
 #include "dq/io/scene.hpp"
+#include "dq/util/sanitizers.hpp"
 #include "models.hpp"
 #include "support.hpp"
 
@@ -123,9 +124,7 @@ TEST(Import, ErrorsNameTheFile) {
 TEST(Import, RunningOutOfMemoryIsSaidInWords) {
   // Assimp's test file that declares more than memory holds: not a bare std::bad_alloc.
   // (Sanitized builds set no memory limit on the worker: there the allocation succeeds, slowly.)
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-  GTEST_SKIP() << "no address-space limit on the importer under sanitizers";
-#endif
+  if (kSanitizedBuild) GTEST_SKIP() << "no address-space limit on the importer under sanitizers";
   DQKIT_REQUIRE_MODELS();
   const Expected<ImportedScene> oom = import_scene(kModels / "invalid/OutOfMemory.off");
   ASSERT_FALSE(oom);

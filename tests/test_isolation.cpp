@@ -22,6 +22,7 @@
 #include <thread>
 
 #include "dq/io/scene.hpp"
+#include "dq/util/sanitizers.hpp"
 
 namespace {
 
@@ -29,11 +30,6 @@ using namespace dq;
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitized = true;  // the importer sets no address-space limit under sanitizers
-#else
-constexpr bool kSanitized = false;
-#endif
 
 /// A scratch directory with a file to import (the fake workers never read it).
 class Isolation : public ::testing::Test {
@@ -81,31 +77,45 @@ TEST_F(Isolation, CpuTimeIsLimited) {
 }
 
 TEST_F(Isolation, MemoryIsLimited) {
-  if (kSanitized) GTEST_SKIP() << "no address-space limit under sanitizers (they reserve terabytes of address space)";
+  if (kSanitizedBuild) GTEST_SKIP() << "no address-space limit under sanitizers (they reserve terabytes of address space)";
   ImportOptions options;
   options.memory_limit_mb = 256;
   const Expected<ImportedScene> s = import_with_fake("allocate", options);
   EXPECT_NE(message(s).find("model.gltf: the importer failed on this file (out of memory?)"), std::string::npos) << message(s);
 }
 
-TEST_F(Isolation, LimitsBelowTheRequestedOnesAreKept) {
-  // A shell's `ulimit -v` or `ulimit -t` sets hard limits the worker inherits and cannot raise: it
-  // runs under those instead of failing to start.
-  if (kSanitized) GTEST_SKIP() << "no address-space limit under sanitizers (they reserve terabytes of address space)";
-  rlimit memory{}, cpu{};
-  ASSERT_EQ(::getrlimit(RLIMIT_AS, &memory), 0);
-  ASSERT_EQ(::getrlimit(RLIMIT_CPU, &cpu), 0);
-  const rlim_t six_gb = rlim_t{6} << 30;
-  const rlimit lower_memory{six_gb, six_gb}, lower_cpu{600, 600};
-  ASSERT_EQ(::setrlimit(RLIMIT_AS, &lower_memory), 0);
-  ASSERT_EQ(::setrlimit(RLIMIT_CPU, &lower_cpu), 0);
+TEST_F(Isolation, TheWorkerGetsTheRequestedLimits) {
+  if (kSanitizedBuild) GTEST_SKIP() << "no address-space limit under sanitizers (they reserve terabytes of address space)";
   ImportOptions options;
-  options.memory_limit_mb = 8192;
-  options.cpu_limit_seconds = 3600;
-  const Expected<ImportedScene> s = import_with_fake("fds", options);
-  ::setrlimit(RLIMIT_AS, &memory);  // raising a hard limit back needs privileges: best effort
-  ::setrlimit(RLIMIT_CPU, &cpu);
-  EXPECT_EQ(message(s), "fds: 0 1 2 3");
+  options.memory_limit_mb = 3000;
+  options.cpu_limit_seconds = 100;
+  EXPECT_EQ(message(import_with_fake("limits", options)), "limits: AS " + std::to_string(3000ull << 20) + " " +
+                                                              std::to_string(3000ull << 20) + ", CPU 100 101");
+}
+
+TEST_F(Isolation, LimitsBelowTheRequestedOnesAreKept) {
+  // A shell's `ulimit -v` or `ulimit -t` sets hard limits the worker inherits and, unprivileged,
+  // cannot raise: it runs under those (the CPU's soft limit a second below, for SIGXCPU first)
+  // instead of failing to start. Played in a child process, whose lowered limits die with it.
+  if (kSanitizedBuild) GTEST_SKIP() << "no address-space limit under sanitizers (they reserve terabytes of address space)";
+  ::setenv("DQKIT_FAKE_WORKER_MODE", "limits", 1);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const rlim_t six_gb = rlim_t{6} << 30;
+    const rlimit lower_memory{six_gb, six_gb}, lower_cpu{60, 60};
+    if (::setrlimit(RLIMIT_AS, &lower_memory) != 0 || ::setrlimit(RLIMIT_CPU, &lower_cpu) != 0) ::_exit(2);
+    ImportOptions options;
+    options.worker_path = DQKIT_FAKE_WORKER;
+    options.memory_limit_mb = 8192;
+    options.cpu_limit_seconds = 3600;
+    const Expected<ImportedScene> s = import_scene(dir_ / "model.gltf", options);
+    const std::string expected = "limits: AS " + std::to_string(six_gb) + " " + std::to_string(six_gb) + ", CPU 59 60";
+    ::_exit(!s && s.error().message == expected ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status;
 }
 
 TEST_F(Isolation, WallClockIsLimited) {

@@ -89,6 +89,28 @@ TYPED_TEST(QuaternionTyped, MatrixRoundTripIncludingHalfTurns) {
   }
 }
 
+TYPED_TEST(QuaternionTyped, SinCosIsExactAtMultiplesOfHalfPiAndLibmElsewhere) {
+  using T = TypeParam;
+  const T half_pi = pi_v<T> / 2;
+  for (int k = -5000; k <= 5000; ++k) {
+    const T a = T(k) * half_pi;  // the multiple as rounded in T
+    const auto sc = dq::detail::sin_cos(a);
+    const int quadrant = ((k % 4) + 4) % 4;
+    ASSERT_EQ(sc.sin, quadrant == 1 ? T(1) : quadrant == 3 ? T(-1) : T(0)) << k;
+    ASSERT_EQ(sc.cos, quadrant == 0 ? T(1) : quadrant == 2 ? T(-1) : T(0)) << k;
+    // Next to a multiple, and halfway between two, it is libm's sin and cos.
+    for (const T b : {std::nextafter(a, T(1e9)), std::nextafter(a, T(-1e9)), a + half_pi / 2}) {
+      const auto near = dq::detail::sin_cos(b);
+      ASSERT_EQ(near.sin, std::sin(b)) << k;
+      ASSERT_EQ(near.cos, std::cos(b)) << k;
+    }
+  }
+  for (const T big : {T(1e7), T(-3e9), std::numeric_limits<T>::max(), std::numeric_limits<T>::infinity()}) {
+    const auto sc = dq::detail::sin_cos(big);
+    EXPECT_TRUE((sc.sin == std::sin(big) && sc.cos == std::cos(big)) || std::isnan(sc.sin)) << big;
+  }
+}
+
 TYPED_TEST(QuaternionTyped, AxisAngleIsExactAtZeroPiAndTwoPi) {
   using T = TypeParam;
   const Vec3<T> z{0, 0, 1};

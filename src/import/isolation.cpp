@@ -17,7 +17,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 
+#include "dq/util/sanitizers.hpp"
 #include "import_internal.hpp"
 
 extern char** environ;
@@ -28,18 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitized = true;  // sanitizers reserve large address ranges: no RLIMIT_AS
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
 
 constexpr const char* kWorkerName = "dqkit-import-worker";
 
@@ -114,29 +104,39 @@ int spawn_worker(const fs::path& worker, int channel, pid_t& pid) {
   return error;
 }
 
-/// Sets the worker's `resource` limits to `soft` and `hard`, or to the hard limit it inherited where
-/// that is lower: an unprivileged process cannot raise a hard limit (a shell's `ulimit -v` sets one),
-/// and the inherited limit already bounds the worker.
-bool lower_limit(pid_t pid, __rlimit_resource resource, rlim_t soft, rlim_t hard) {  // glibc's enum of RLIMIT_*
+/// The worker's `resource` limit lowered to `soft` and `hard`, or to what its inherited hard limit
+/// allows: an unprivileged process cannot raise a hard limit (a shell's `ulimit -v` or `ulimit -t`
+/// sets one), and the inherited limit already bounds the worker. `gap` keeps the soft limit that
+/// far below the hard one where both are clamped (the CPU limit's SIGXCPU before its SIGKILL).
+/// Returns the soft limit set, or nothing (errno says why).
+std::optional<rlim_t> lower_limit(pid_t pid, __rlimit_resource resource, rlim_t soft, rlim_t hard, rlim_t gap) {
   rlimit inherited{};
-  if (::prlimit(pid, resource, nullptr, &inherited) != 0) return false;
-  if (inherited.rlim_max != RLIM_INFINITY) soft = std::min(soft, inherited.rlim_max), hard = std::min(hard, inherited.rlim_max);
+  if (::prlimit(pid, resource, nullptr, &inherited) != 0) return std::nullopt;
+  if (inherited.rlim_max != RLIM_INFINITY && hard > inherited.rlim_max) {
+    hard = inherited.rlim_max;
+    soft = std::min(soft, hard > gap ? hard - gap : hard);
+  }
   const rlimit limit{soft, hard};
-  return ::prlimit(pid, resource, &limit, nullptr) == 0;
+  if (::prlimit(pid, resource, &limit, nullptr) != 0) return std::nullopt;
+  return soft;
 }
 
 /// Limits the worker before it is sent anything (it waits for the request before doing any work).
-Status limit_worker(pid_t pid, const ImportOptions& options) {
+/// Returns the CPU seconds it may use (0: no limit), for the message when it uses them up.
+Expected<double> limit_worker(pid_t pid, const ImportOptions& options) {
+  double cpu_seconds = 0;
   if (options.cpu_limit_seconds > 0) {
     const auto seconds = static_cast<rlim_t>(std::ceil(std::min(options.cpu_limit_seconds, 1e9)));
-    // SIGXCPU at the soft limit, SIGKILL a second later
-    if (!lower_limit(pid, RLIMIT_CPU, seconds, seconds + 1)) return Error{std::string("cannot limit its CPU time: ") + std::strerror(errno)};
+    // SIGXCPU at the soft limit, SIGKILL a second later (at the hard one)
+    const std::optional<rlim_t> set = lower_limit(pid, RLIMIT_CPU, seconds, seconds + 1, 1);
+    if (!set) return Error{std::string("cannot limit its CPU time: ") + std::strerror(errno)};
+    cpu_seconds = *set == seconds ? options.cpu_limit_seconds : static_cast<double>(*set);
   }
-  if (!kSanitized && options.memory_limit_mb > 0) {
+  if (!kSanitizedBuild && options.memory_limit_mb > 0) {
     const rlim_t bytes = static_cast<rlim_t>(std::min<std::size_t>(options.memory_limit_mb, std::size_t{1} << 40)) << 20;
-    if (!lower_limit(pid, RLIMIT_AS, bytes, bytes)) return Error{std::string("cannot limit its memory: ") + std::strerror(errno)};
+    if (!lower_limit(pid, RLIMIT_AS, bytes, bytes, 0)) return Error{std::string("cannot limit its memory: ") + std::strerror(errno)};
   }
-  return {};
+  return cpu_seconds;
 }
 
 enum class Exchange { complete, ended_early, timed_out, too_large, overlong };
@@ -207,7 +207,7 @@ Expected<ImportedScene> run_isolated(const ImportRequest& request, const std::st
   const std::size_t budget = std::min<std::size_t>(options.result_limit_mb, std::size_t{1} << 40) << 20;
   std::string payload;
   std::uint64_t length = 0;
-  const Status limited = limit_worker(pid, options);
+  const Expected<double> limited = limit_worker(pid, options);
   const Exchange exchanged = limited ? talk_to_worker(sockets[0], encode_request(request), payload, length, budget, deadline) : Exchange::ended_early;
   ::close(sockets[0]);
   // Reap the worker; one that closed its side but does not exit is killed at the deadline.
@@ -238,7 +238,7 @@ Expected<ImportedScene> run_isolated(const ImportRequest& request, const std::st
   if (exchanged == Exchange::overlong) return Error{source + ": the isolated importer returned a damaged result"};
   if (reaped && WIFSIGNALED(status)) {
     if (WTERMSIG(status) == SIGXCPU)
-      return Error{source + ": the importer used up its CPU time limit (" + std::to_string(options.cpu_limit_seconds) + " s)"};
+      return Error{source + ": the importer used up its CPU time limit (" + std::to_string(*limited) + " s)"};
     return Error{source + ": the importer (Assimp) crashed on this file (" + std::string(::strsignal(WTERMSIG(status))) + ")"};
   }
   if ((reaped && WEXITSTATUS(status) != 0) || exchanged != Exchange::complete)

@@ -431,9 +431,17 @@ Status check_writable(const BvhFile& bvh) {
   if (bvh.joints.empty() || bvh.joints[0].parent != -1 || bvh.joints[0].end_site) return fail("the first joint must be a root joint");
   if (bvh.joints.size() > BvhLimits::max_joints) return fail("more than " + std::to_string(BvhLimits::max_joints) + " joints");
   std::size_t channels = 0;
+  std::vector<int> open;  // the writer's open blocks: a joint's parent must be one of them (depth-first order)
   for (std::size_t i = 0; i < bvh.joints.size(); ++i) {
     const BvhJoint& j = bvh.joints[i];
     if (j.parent < -1 || j.parent >= static_cast<int>(i)) return fail(joint_label(bvh, i) + ": its parent must come before it");
+    while (!open.empty() && open.back() != j.parent) open.pop_back();
+    if (open.empty() && j.parent != -1)
+      return fail(joint_label(bvh, i) + ": the joints are not in depth-first order (a subtree must follow its parent without a gap)");
+    open.push_back(static_cast<int>(i));
+    for (std::size_t a = 0; a < j.channels.size(); ++a)
+      for (std::size_t b = a + 1; b < j.channels.size(); ++b)
+        if (j.channels[a] == j.channels[b]) return fail(joint_label(bvh, i) + ": channel " + std::string(to_string(j.channels[a])) + " repeated");
     if (j.parent >= 0 && bvh.joints[static_cast<std::size_t>(j.parent)].end_site) return fail(joint_label(bvh, i) + ": its parent is an End Site");
     if (j.parent < 0 && j.end_site) return fail(joint_label(bvh, i) + ": an End Site without a parent");
     if (!j.end_site && !name_reads_back(j.name))

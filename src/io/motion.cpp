@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "dq/anim/animation.hpp"
@@ -42,9 +43,10 @@ namespace {
 Status check_budget(std::size_t frames, std::size_t joints, const MotionOptions& options, const std::string& source) {
   const double bytes = static_cast<double>(frames) * static_cast<double>(joints) * sizeof(DualQuaternion<double>);
   if (bytes <= static_cast<double>(options.memory_limit_mb) * 1048576.0) return {};
-  return Error{source + ": " + std::to_string(frames) + " frames of " + std::to_string(joints) + " joints need " +
-               std::to_string(static_cast<long long>(bytes / 1048576.0)) + " MB, more than the " + std::to_string(options.memory_limit_mb) +
-               " MB allowed"};
+  char megabytes[32];  // as a double: the count may be beyond any integer type (resampled_frame_count saturates)
+  std::snprintf(megabytes, sizeof megabytes, "%.4g", bytes / 1048576.0);
+  return Error{source + ": " + std::to_string(frames) + " frames of " + std::to_string(joints) + " joints need " + megabytes +
+               " MB, more than the " + std::to_string(options.memory_limit_mb) + " MB allowed"};
 }
 
 Expected<Motion> from_bvh(Expected<BvhFile> bvh, const std::string& source, const MotionOptions& options) {
@@ -69,7 +71,7 @@ Expected<Motion> from_bvh(Expected<BvhFile> bvh, const std::string& source, cons
     out.joint_count = m.skeleton.size();
     out.locals.resize(frames * out.joint_count);
     for (std::size_t f = 0; f < frames; ++f)
-      sample<double>(m.animation, std::min(static_cast<double>(f) * out.frame_time, duration), Interpolation::screw, WrapMode::clamp,
+      sample<double>(m.animation, std::min(static_cast<double>(f) / options.sample_rate, duration), Interpolation::screw, WrapMode::clamp,
                      std::span(out.locals).subspan(f * out.joint_count, out.joint_count));
     m.animation = std::move(out);
   }

@@ -2,6 +2,7 @@
 // whatever the worker does. DQKIT_FAKE_WORKER_MODE says how it misbehaves; descriptor 3 is the
 // socket to the caller, as for the real worker.
 #include <dirent.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cstdint>
@@ -62,6 +63,16 @@ int main() {
       blocks.push_back(b);
     }
     respond_error("allocated 2 GB: no memory limit");
+    return 0;
+  }
+  if (mode == "limits") {  // reports the limits it runs under, once the request has begun (they are set before it is sent)
+    char first = 0;
+    if (::read(3, &first, 1) != 1) return 4;
+    rlimit as{}, cpu{};
+    ::getrlimit(RLIMIT_AS, &as);
+    ::getrlimit(RLIMIT_CPU, &cpu);
+    respond_error("limits: AS " + std::to_string(as.rlim_cur) + " " + std::to_string(as.rlim_max) + ", CPU " + std::to_string(cpu.rlim_cur) +
+                  " " + std::to_string(cpu.rlim_max));
     return 0;
   }
   if (mode == "huge_length") {  // announces an exabyte

@@ -51,7 +51,7 @@ CLI::Validator file_name() {
 }
 
 void add_input_options(CLI::App& c, InputOptions& o, const std::string& option_name) {
-  c.add_option(option_name, o.file, "Motion file: BVH (recognized by content), glTF, FBX, Collada, X, IQM, ...; - for standard input (BVH)")
+  c.add_option(option_name, o.file, "Motion file: BVH (recognized by content or a .bvh name), glTF, FBX, Collada, X, IQM, ...; - for standard input (BVH)")
       ->required()
       ->check(file_name());
   c.add_option("--animation", o.animation, "Which animation of a multi-animation file (from 0)")->check(animation_index());

@@ -27,7 +27,7 @@ int run_fix_feet(const FixFeetArgs& args) {
   options.feet = args.feet;
   const Expected<FixFeetReport> report = fix_foot_sliding(*m.bvh, options);
   if (!report) throw Failure(args.input.file + ": " + report.error().message);
-  if (Status s = write_bvh(*m.bvh, [&](std::string_view chunk) { out.write(chunk); }); !s) throw Failure(s.error().message);
+  if (Status s = write_bvh(*m.bvh, [&](std::string_view chunk) { out.write(chunk); }); !s) throw Failure(args.input.file + ": " + s.error().message);
   out.finish();
   // The report goes to standard error: standard output may be the BVH itself.
   for (const FootContactReport& f : report->feet)

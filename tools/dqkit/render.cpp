@@ -63,7 +63,8 @@ int run_render(const RenderArgs& a) {
   };
   if (!a.force && !a.window)
     for (std::size_t i = 0; i < times.size(); ++i)
-      if (std::filesystem::exists(name_of(i))) throw Failure(name_of(i) + ": exists (use --force to replace it)");
+      if (std::filesystem::exists(name_of(i)))
+        throw Failure(name_of(i) + ": already exists; it is replaced only when asked (--force)");
 
   SkinnedModel m = load_skinned_model(a.model);
   SkinningThreads threads(std::max(1u, std::min(4u, std::thread::hardware_concurrency())));

@@ -60,7 +60,7 @@ void sample(const Animation& anim, double time, Interpolation mode, WrapMode wra
   if (anim.frame_count == 0) return;
   const double n = static_cast<double>(anim.frame_count);
   const double x_unwrapped = anim.frame_time > 0 ? time / anim.frame_time : 0;  // in frames; ±∞ where it overflows
-  if (std::isnan(time) || std::isnan(x_unwrapped) || (wrap == WrapMode::loop && std::isinf(x_unwrapped))) {
+  if (std::isnan(time) || std::isnan(x_unwrapped) || (wrap == WrapMode::loop && (std::isinf(time) || std::isinf(x_unwrapped)))) {
     const T nan = T(std::numeric_limits<real_t<T>>::quiet_NaN());
     const Quaternion<T> q(nan, nan, nan, nan);
     for (DualQuaternion<T>& o : out) o = DualQuaternion<T>(q, q);

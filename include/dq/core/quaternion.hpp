@@ -31,10 +31,15 @@ SinCos<T> sin_cos(const T& a) {
   using std::cos;
   using std::sin;
   if constexpr (std::is_floating_point_v<T>) {
-    constexpr T half_pi = std::numbers::pi_v<T> / 2;
+    // k = a ÷ (π/2) rounded to an integer, cheaply (this runs in IK's inner loops, through
+    // from_rotation_vector): a product instead of a division, and rounding by adding and removing
+    // 1.5 · 2^(digits − 1), exact for |k| below 2^(digits − 2) and harmless beyond (k is then not
+    // below 2^20). A multiple of π/2 as rounded in T gives its k exactly; the test k · π/2 == a
+    // then decides, so an approximate k only ever falls through to sin and cos.
+    constexpr T half_pi = std::numbers::pi_v<T> / 2, two_over_pi = 2 / std::numbers::pi_v<T>;
+    constexpr T round_bias = T(1.5) * T(1ull << (std::numeric_limits<T>::digits - 1));
     using std::abs;
-    using std::round;
-    const T k = round(a / half_pi);
+    const T k = (a * two_over_pi + round_bias) - round_bias;
     if (abs(k) < T(1 << 20) && k * half_pi == a) {
       const long long quadrant = static_cast<long long>(k) & 3;  // two's complement: mod 4
       constexpr T one = 1, zero = 0;

@@ -44,8 +44,9 @@ Expected<ImportedScene> import_scene(const std::filesystem::path& path, const Im
 Expected<ImportedScene> import_scene_from_memory(std::span<const std::uint8_t> data, const std::string& hint,
                                                  const ImportOptions& options = {});
 
-/// load_motion for every format: BVH (recognized by content, is_bvh_file) through dqkit's own
-/// exact reader (load_motion), every other format through import_scene (isolated).
+/// load_motion for every format: BVH (recognized by content, is_bvh_file, or by a name ending in
+/// .bvh, has_bvh_extension) through dqkit's own exact reader (load_motion), every other format
+/// through import_scene (isolated).
 Expected<Motion> import_motion(const std::filesystem::path& path, const MotionOptions& options = {});
 
 }  // namespace dq
