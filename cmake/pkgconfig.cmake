@@ -34,7 +34,7 @@ dqkit_pkgconfig(dqkit-skin dqkit_skin "dqkit skins and LBS, DQS and centre-of-ro
 if(TARGET dqkit_render)
   set(dqkit_render_requires dqkit)
   if(NOT BUILD_SHARED_LIBS)
-    string(APPEND dqkit_render_requires " egl opengl stb")
+    string(APPEND dqkit_render_requires " dqkit-io egl opengl stb")  # dqkit-io: write_png writes through OutputFile
     if(DQKIT_HAVE_GLFW)
       string(APPEND dqkit_render_requires " glfw3")
     endif()

@@ -1,6 +1,7 @@
 // Running the command-line tool from the tests as a user runs it from a shell.
 #pragma once
 
+#include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -39,6 +40,27 @@ inline CliOutcome run_shell(const std::string& line) {
   r.err = read_file(err_file);
   std::filesystem::remove(err_file);
   return r;
+}
+
+/// Whether process `pid` has a file open for writing its output in `dir`: an anonymous file
+/// (O_TMPFILE, "dir/#inode (deleted)") or a named temporary file (".NAME.tmpN").
+inline bool writes_output_in(pid_t pid, const std::filesystem::path& dir) {
+  std::error_code ec;
+  for (const auto& fd : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec)) {
+    const std::string target = std::filesystem::read_symlink(fd.path(), ec).string();
+    if (!ec && target.rfind(dir.string() + "/", 0) == 0 &&
+        (target.ends_with(" (deleted)") || target.find(".tmp") != std::string::npos))
+      return true;
+  }
+  return false;
+}
+
+/// Whether the file system of `dir` has anonymous files (O_TMPFILE), which OutputFile uses.
+inline bool has_anonymous_files(const std::filesystem::path& dir) {
+  const int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0600);
+  if (fd < 0) return false;
+  ::close(fd);
+  return true;
 }
 
 }  // namespace dq::test

@@ -4,17 +4,21 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 #include "dq/io/bvh.hpp"
 #include "dq/io/file.hpp"
+#include "cli.hpp"
 #include "dq/io/motion.hpp"
 
 namespace {
@@ -320,29 +324,55 @@ TEST_F(HostileIo, ErrorsNameTheTargetAndLeaveNothingBehind) {
   EXPECT_TRUE(no_temporaries());
 }
 
-TEST_F(HostileIo, ASignalDuringAWriteLeavesNoTemporaryFile) {
+/// Forks a child that writes `name` in `dir` forever, and returns once it is writing.
+pid_t start_endless_writer(const fs::path& dir, const char* name) {
   const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
   if (child == 0) {  // writes forever until killed
     remove_temporary_files_on_signals();
-    Expected<OutputFile> f = OutputFile::create(dir_ / "big.csv", Overwrite::refuse);
+    Expected<OutputFile> f = OutputFile::create(dir / name, Overwrite::refuse);
     if (!f) ::_exit(2);
     const std::string chunk(1 << 16, 'x');
     while (f->write(chunk)) {}
     ::_exit(3);
   }
-  bool seen = false;  // wait until the temporary file exists, then kill
-  for (int i = 0; i < 5000 && !seen; ++i) {
-    seen = !no_temporaries();
-    if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  ASSERT_TRUE(seen);
+  for (int i = 0; i < 5000 && child > 0 && !dq::test::writes_output_in(child, dir); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  return child;
+}
+
+TEST_F(HostileIo, ASignalDuringAWriteLeavesNoTemporaryFile) {
+  const pid_t child = start_endless_writer(dir_, "big.csv");
+  ASSERT_GT(child, 0);
+  ASSERT_TRUE(dq::test::writes_output_in(child, dir_)) << "the child never started writing";
   ::kill(child, SIGTERM);
   int status = 0;
   ::waitpid(child, &status, 0);
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
   EXPECT_TRUE(no_temporaries());
   EXPECT_FALSE(fs::exists(dir_ / "big.csv"));
+}
+
+TEST_F(HostileIo, AnonymousFilesLeaveNothingEvenAfterSigkill) {
+  // SIGKILL runs no handler: only a file without a name (O_TMPFILE) leaves nothing behind.
+  if (!dq::test::has_anonymous_files(dir_)) GTEST_SKIP() << "this file system has no O_TMPFILE";
+  {  // while being written, the file has no name in the directory
+    Expected<OutputFile> f = OutputFile::create(dir_ / "out.txt", Overwrite::refuse);
+    ASSERT_TRUE(f);
+    ASSERT_TRUE(f->write("data"));
+    EXPECT_TRUE(fs::is_empty(dir_));
+    ASSERT_TRUE(f->commit());
+  }
+  EXPECT_EQ(slurp(dir_ / "out.txt"), "data");
+  const pid_t child = start_endless_writer(dir_, "big.csv");
+  ASSERT_GT(child, 0);
+  ASSERT_TRUE(dq::test::writes_output_in(child, dir_)) << "the child never started writing";
+  ::kill(child, SIGKILL);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir_)) left.push_back(e.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"out.txt"});
 }
 
 }  // namespace

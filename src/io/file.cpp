@@ -51,6 +51,8 @@ extern "C" void remove_temporaries_and_die(int sig) {
 
 std::string reason(int error) { return std::strerror(error); }
 
+constexpr const char* kNotRegular =
+    ": is not a regular file (a symbolic link, device, FIFO or socket): dqkit writes only regular files, never through or over one";
 constexpr const char* kAlreadyExists = ": already exists; it is replaced only when asked (--force on the command line, overwrite=True in Python, Overwrite::allow in C++)";
 
 }  // namespace
@@ -72,9 +74,7 @@ Expected<OutputFile> OutputFile::create(const std::filesystem::path& path, Overw
   struct stat st {};
   if (::lstat(path.c_str(), &st) == 0) {
     if (S_ISDIR(st.st_mode)) return Error{name + ": is a directory"};
-    if (!S_ISREG(st.st_mode))
-      return Error{name + ": is not a regular file (a symbolic link, device, FIFO or socket): dqkit writes only regular files, "
-                          "never through or over one"};
+    if (!S_ISREG(st.st_mode)) return Error{name + kNotRegular};
     if (overwrite == Overwrite::refuse) return Error{name + kAlreadyExists};
   } else if (errno != ENOENT) {
     return Error{name + ": " + reason(errno)};
@@ -83,6 +83,14 @@ Expected<OutputFile> OutputFile::create(const std::filesystem::path& path, Overw
   OutputFile out;
   out.path_ = path;
   out.overwrite_ = overwrite;
+  // An anonymous file in the target's directory (O_TMPFILE): it has no name until commit() links
+  // it in, so nothing is left behind whatever stops the process (SIGKILL, a crash, power loss).
+  // commit() names it through /proc/self/fd (linkat needs no privileges that way). Named temporary
+  // files remain for file systems without O_TMPFILE and systems without /proc.
+  if (::access("/proc/self/fd", X_OK) == 0) {
+    out.fd_ = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+    if (out.fd_ >= 0) return out;
+  }
   std::random_device rd;
   int error = 0;
   for (int attempt = 0; attempt < 16 && out.fd_ < 0; ++attempt) {
@@ -127,7 +135,7 @@ OutputFile::~OutputFile() { discard(); }
 void OutputFile::discard() noexcept {
   if (fd_ >= 0) {
     ::close(fd_);
-    ::unlink(temporary_.c_str());
+    if (!temporary_.empty()) ::unlink(temporary_.c_str());  // an anonymous file vanishes with its descriptor
     fd_ = -1;
   }
   release_slot(slot_);
@@ -172,12 +180,42 @@ Status OutputFile::commit() {
   if (overwrite_ == Overwrite::allow && ::lstat(path_.c_str(), &old) == 0) {
     if (!S_ISREG(old.st_mode)) {
       discard();
-      return Error{name + ": is not a regular file (a symbolic link, device, FIFO or socket); it is never replaced"};
+      return Error{name + kNotRegular};
     }
     if (::fchmod(fd_, old.st_mode & 07777) != 0) return fail("cannot keep the permissions", errno);
     (void)!::fchown(fd_, old.st_uid, old.st_gid);  // keeps the owner where allowed (root); else ours
   }
   if (::fsync(fd_) != 0) return fail("fsync failed", errno);
+  if (temporary_.empty()) {  // anonymous: the file gets its name now
+    const std::string self = "/proc/self/fd/" + std::to_string(fd_);
+    if (overwrite_ == Overwrite::refuse) {
+      // Exclusive: linkat fails with EEXIST where a file appeared meanwhile (another writer).
+      const int rc = ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, path_.c_str(), AT_SYMLINK_FOLLOW);
+      const int error = errno;
+      const int closed = ::close(std::exchange(fd_, -1));
+      const int close_error = errno;
+      if (rc != 0) return Error{name + (error == EEXIST ? kAlreadyExists : ": cannot create: " + reason(error))};
+      if (closed != 0) {
+        ::unlink(path_.c_str());  // ours, created just now
+        return Error{name + ": close failed: " + reason(close_error)};
+      }
+      return {};
+    }
+    // Replacing: a name beside the target for an instant (in the signal handler's table), then
+    // the rename below.
+    std::random_device rd;
+    int error = EEXIST;
+    for (int attempt = 0; attempt < 16 && error == EEXIST; ++attempt) {
+      temporary_ = path_.parent_path() / ("." + path_.filename().string() + ".tmp" + std::to_string(rd()));
+      slot_ = claim_slot(temporary_);
+      error = ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, temporary_.c_str(), AT_SYMLINK_FOLLOW) == 0 ? 0 : errno;
+      if (error != 0) release_slot(std::exchange(slot_, -1));
+    }
+    if (error != 0) {
+      temporary_.clear();
+      return fail("cannot create a file beside it", error);
+    }
+  }
   const int fd = std::exchange(fd_, -1);
   if (::close(fd) != 0) {
     fd_ = -1;

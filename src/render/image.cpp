@@ -2,11 +2,10 @@
 #include <stb_image_write.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
-#include <unistd.h>
+#include <string>
 
+#include "dq/io/file.hpp"
 #include "dq/render/render.hpp"
 
 namespace dq::render {
@@ -46,17 +45,14 @@ std::array<std::uint8_t, 4> Image::pixel(int x, int y) const {
 Status Image::write_png(const std::filesystem::path& path) const {
   if (width <= 0 || height <= 0 || rgba.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4)
     return Error{path.string() + ": the image is empty or inconsistent"};
-  std::filesystem::path temporary = path;
-  temporary += ".tmp" + std::to_string(::getpid());
-  if (!stbi_write_png(temporary.c_str(), width, height, 4, rgba.data(), width * 4))
-    return Error{path.string() + ": cannot write the PNG (" + std::strerror(errno) + ")"};
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::filesystem::remove(temporary, ec);
-    return Error{path.string() + ": cannot move the PNG into place"};
-  }
-  return {};
+  // Encoded in memory, then written as every dqkit output is (OutputFile: nothing left behind on
+  // an error or a kill, only a regular file replaced).
+  std::string png;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+  };
+  if (!stbi_write_png_to_func(append, &png, width, height, 4, rgba.data(), width * 4)) return Error{path.string() + ": cannot encode the PNG"};
+  return write_file_atomically(path, png, Overwrite::allow);
 }
 
 std::vector<Vec3<float>> vertex_normals(const std::vector<Vec3<float>>& positions, const std::vector<std::uint32_t>& triangles) {

@@ -100,7 +100,7 @@ struct Image {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgba;  ///< top row first
   std::array<std::uint8_t, 4> pixel(int x, int y) const;
-  /// Writes a PNG (atomically: a temporary file moved into place). Errors say why.
+  /// Writes a PNG through OutputFile (atomically, replacing only a regular file). Errors say why.
   Status write_png(const std::filesystem::path& path) const;
 };
 
