@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   o.width = 1000;
   apps::add_options(app, o);
   double fps = 30;
-  app.add_option("--fps", fps, "Frames per second of the target's motion")->check(CLI::PositiveNumber);
+  app.add_option("--fps", fps, "Frames per second of the target's motion")->check(cli::finite_in(0, 1000));
   CLI11_PARSE(app, argc, argv);
   std::optional<demo::BipedDemo> demo(std::in_place);
   if (o.headless) {

@@ -26,7 +26,7 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--out", o.out, "Directory for frame_0000.png ... (created)");
   app.add_option("--width", o.width, "Image width, pixels")->check(CLI::Range(16, 8192));
   app.add_option("--height", o.height, "Image height, pixels")->check(CLI::Range(16, 8192));
-  app.add_option("--quit-after", o.quit_after, "Window: close after this many frames (0: never)")->check(CLI::NonNegativeNumber);
+  app.add_option("--quit-after", o.quit_after, "Window: close after this many frames (0: never)")->check(cli::whole_number_up_to(1u << 30));
   app.add_option("--screenshot", o.screenshot, "Window: write the last picture drawn (without the ImGui panel) to this PNG on exit");
 }
 

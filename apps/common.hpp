@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_validators.hpp"
 #include "dq/demo/scenes.hpp"
 
 namespace dq::apps {

@@ -19,8 +19,9 @@ int main(int argc, char** argv) {
   int scramble = 0, max_depth = 18;
   bool solve = false;
   std::filesystem::path x3d;
-  app.add_option("--seed", seed, "Seed of the scramble");
-  app.add_option("--scramble", scramble, "Random legal moves from the solved puzzle (none undoing the one before)")->check(CLI::NonNegativeNumber);
+  app.add_option("--seed", seed, "Seed of the scramble")->check(cli::whole_number_up_to(~0ull));
+  app.add_option("--scramble", scramble, "Random legal moves from the solved puzzle (none undoing the one before)")
+      ->check(cli::whole_number_up_to(1000000));
   app.add_flag("--solve", solve, "Append the solver's shortest solution (animated)");
   app.add_option("--max-depth", max_depth, "Longest solution the solver looks for")->check(CLI::Range(0, 40));
   app.add_option("--export-x3d", x3d, "Write the state after all moves as X3D (each piece a Transform DEF=\"piece_NN\")");

@@ -6,7 +6,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <tuple>
 
+#include "cli.hpp"
 #include "window_pictures.hpp"
 
 namespace {
@@ -41,6 +43,24 @@ TEST(Demos, PuzzleFramesShowTheScrambledAndTheSolvedState) {
   // The middle frame differs from both (a move in progress or done).
   EXPECT_NE(load(frame(dir, 1)).rgba, load(frame(dir, 0)).rgba);
   fs::remove_all(dir);
+}
+
+TEST(Demos, OptionsOutOfRangeAreErrors) {
+  // NaN passes CLI11's own ranges; a negative seed would wrap into an unsigned one; a scramble's
+  // moves are kept, so its length is bounded.
+  const fs::path err = fs::temp_directory_path() / "dqkit_test_demos_err.txt";
+  for (const auto& [program, args, expected] :
+       {std::tuple{std::string(DQKIT_BIPED), std::string("--fps nan"), std::string("'nan' is not a finite number")},
+        std::tuple{std::string(DQKIT_BIPED), std::string("--fps 0"), std::string("'0' is out of range (0, 1000]")},
+        std::tuple{std::string(DQKIT_PUZZLE), std::string("--seed -1"), std::string("'-1' is not a whole number")},
+        std::tuple{std::string(DQKIT_PUZZLE), std::string("--scramble 1000001"), std::string("'1000001' is more than 1000000")}}) {
+    const std::string command = program + " --headless --frames 1 --out " + (fs::temp_directory_path() / "dqkit_test_demos_err").string() +
+                                " " + args + " > /dev/null 2> " + err.string();
+    EXPECT_NE(std::system(command.c_str()), 0) << command;
+    const std::string text = read_file(err);
+    EXPECT_NE(text.find(expected), std::string::npos) << command << ": " << text;
+  }
+  fs::remove(err);
 }
 
 TEST(Demos, PuzzleRejectsAnUnreachableDepth) {

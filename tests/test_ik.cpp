@@ -262,6 +262,7 @@ TEST(IkSolver, InvalidInputIsAnErrorAndLeavesQUntouched) {
     const IkResult r = solver.solve(std::span(&t, 1), qq);
     EXPECT_EQ(r.status, IkStatus::invalid_input) << what;
     EXPECT_NE(std::string(r.message), "") << what;
+    EXPECT_TRUE(std::isnan(r.position_error) && std::isnan(r.orientation_error)) << what << ": no solve ran, so no error of 0";
     EXPECT_EQ(q, before) << what;
   };
   IkTask nan_target = bad;

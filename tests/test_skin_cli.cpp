@@ -113,6 +113,9 @@ TEST_F(SkinCli, ErrorsSayWhat) {
   r = run("skin " + (dir_ / "missing.gltf").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("missing.gltf"), std::string::npos) << r.err;
+  r = run("skin " + model("BVH/01_01.bvh"));  // Assimp's bone-drawing mesh is not a skin
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("01_01.bvh: a BVH capture has no mesh to skin"), std::string::npos) << r.err;
   r = run("render " + model("X/Testwuson.X") + " --time 2 --until 1 --out " + (dir_ / "z.png").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("--until (1 s) is before --time (2 s)"), std::string::npos) << r.err;

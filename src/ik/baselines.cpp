@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "dq/ik/jacobian.hpp"
@@ -42,6 +43,7 @@ IkResult invalid(const char* why) {
   IkResult r;
   r.status = IkStatus::invalid_input;
   r.message = why;
+  r.position_error = r.orientation_error = std::numeric_limits<double>::quiet_NaN();  // no solve ran: no error to show as 0
   return r;
 }
 

@@ -390,6 +390,7 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
   auto invalid = [&](const char* why) {
     result.status = IkStatus::invalid_input;
     result.message = why;
+    result.position_error = result.orientation_error = std::numeric_limits<double>::quiet_NaN();  // no solve ran: no error to show as 0
     return result;
   };
   if (q_io.size() != n) return invalid("q must have one value per model parameter");

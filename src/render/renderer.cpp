@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "context.hpp"
 #include "dq/render/render.hpp"
@@ -232,7 +233,9 @@ Expected<Renderer> Renderer::make(const RenderOptions& options, const std::strin
   glBindFramebuffer(GL_FRAMEBUFFER, g.msaa_fbo);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g.color_rb);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.depth_rb);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) return Error{"rendering: the multisampled framebuffer is incomplete"};
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    return Error{"rendering: the OpenGL driver cannot make a " + std::to_string(w) + " x " + std::to_string(h) + " framebuffer with " +
+                 std::to_string(options.samples) + " samples (too large for it? try a smaller size)"};
   glGenRenderbuffers(1, &g.resolve_rb);
   glBindRenderbuffer(GL_RENDERBUFFER, g.resolve_rb);
   glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);

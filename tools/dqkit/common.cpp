@@ -22,19 +22,6 @@ void print_warnings(const std::vector<std::string>& warnings) {
   for (const std::string& w : warnings) std::fprintf(stderr, "dqkit: warning: %s\n", w.c_str());
 }
 
-CLI::Validator finite_in(double low, double high) {
-  return CLI::Validator(
-      [low, high](std::string& text) -> std::string {
-        double v = 0;
-        const char* end = text.data() + text.size();
-        const auto r = std::from_chars(text.data(), end, v);
-        if (r.ec != std::errc() || r.ptr != end || !std::isfinite(v)) return "'" + text + "' is not a finite number";
-        if (!(v > low && v <= high)) return "'" + text + "' is out of range (" + CLI::detail::to_string(low) + ", " + CLI::detail::to_string(high) + "]";
-        return {};
-      },
-      "NUMBER in (" + CLI::detail::to_string(low) + ", " + CLI::detail::to_string(high) + "]");
-}
-
 CLI::Validator animation_index() {
   return CLI::Validator(
       [](std::string& text) -> std::string {

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "../cli_validators.hpp"
 #include "dq/io/file.hpp"
 #include "dq/io/motion.hpp"
 
@@ -39,8 +40,6 @@ void add_input_options(CLI::App& command, InputOptions& options, const std::stri
 /// Loads the input (warnings printed); throws Failure.
 Motion load(const InputOptions& options);
 
-/// A CLI11 check: a finite number in (low, high].
-CLI::Validator finite_in(double low, double high);
 /// A file name: not empty ('-' names standard input or output).
 CLI::Validator file_name();
 /// An animation number: 0, 1, ...

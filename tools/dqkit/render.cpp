@@ -42,7 +42,7 @@ int run_render(const RenderArgs& a) {
     char extra = 0;
     const int n = std::sscanf(a.camera.c_str(), "%lf,%lf,%lf%c", &yaw, &pitch, &distance, &extra);
     if (n < 2 || n > 3 || !std::isfinite(yaw) || !std::isfinite(pitch) || !std::isfinite(distance) || distance < 0)
-      throw Failure("--camera must be 'yaw,pitch' or 'yaw,pitch,distance' (degrees, degrees, model units > 0), got '" + a.camera + "'");
+      throw Failure("--camera must be 'yaw,pitch' or 'yaw,pitch,distance' (degrees, degrees, model units; 0 or none: the distance that frames the animation), got '" + a.camera + "'");
   }
   // The times to draw; a sequence writes NAME_0000.png, NAME_0001.png, ...
   std::vector<double> times{a.model.time};

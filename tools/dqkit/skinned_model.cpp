@@ -21,6 +21,9 @@ SkinnedModel load_skinned_model(const SkinnedModelOptions& o) {
   if (!scene) throw Failure(scene.error().message);
   print_warnings(scene->warnings);
   if (scene->meshes.empty()) throw Failure(o.file + ": the file has no mesh to skin");
+  // Assimp gives BVH captures a mesh that draws the bones; it is not a character's skin.
+  if (has_bvh_extension(o.file) || is_bvh_file(o.file))
+    throw Failure(o.file + ": a BVH capture has no mesh to skin (only the skeleton and its motion: dqkit fk, dqkit convert)");
   if (!scene->animations.empty() && o.animation >= scene->animations.size())
     throw Failure(o.file + ": --animation " + std::to_string(o.animation) + ": the file has " + count_text(scene->animations.size(), "animation", "animations"));
   Expected<SceneSkin> skins = SceneSkin::build(*scene);

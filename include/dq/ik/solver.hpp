@@ -93,8 +93,8 @@ struct IkResult {
   IkStatus status = IkStatus::invalid_input;
   int iterations = 0;              ///< in total, over all starts
   int restarts = 0;
-  double position_error = 0;       ///< largest over position-like tasks (metres)
-  double orientation_error = 0;    ///< largest over orientation-like tasks (radians)
+  double position_error = 0;       ///< largest over position-like tasks (metres); NaN for invalid_input
+  double orientation_error = 0;    ///< largest over orientation-like tasks (radians); NaN for invalid_input
   const char* message = "";        ///< for invalid_input: what is wrong
 };
 
