@@ -219,6 +219,10 @@ void bind_skin_types(py::module_& m) {
     const auto bw = dual_quaternions_from_numpy(bone_world, "bone_world");
     if (bw.size() != skin.bone_count())
       throw py::value_error("bone_world: expected shape (" + std::to_string(skin.bone_count()) + ", 8), one per bone");
+    for (std::size_t b = 0; b < bw.size(); ++b)  // LBS would read a scaled one as a scale, DQS normalize it: refused
+      if (!bw[b].is_unit(1e-4))                   // (float32 input rounds to about 1e-7)
+        throw py::value_error("bone_world: bone " + std::to_string(b) + " is not a unit dual quaternion (a rigid transform); "
+                              "normalize it first (dqkit.normalized)");
     if (method == dq::SkinningMethod::cor && !skin.has_centers())
       throw py::value_error("SkinningMethod.cor needs centres of rotation: build the skin with triangles");
     const std::size_t n = skin.vertex_count();

@@ -202,6 +202,10 @@ def test_skin_vertices_against_numpy(rng):
         dqkit.skin_vertices(skin, world[:3])
     with pytest.raises(ValueError, match="needs centres of rotation"):
         dqkit.skin_vertices(skin, world, dqkit.SkinningMethod.cor)
+    # Bones must be rigid: LBS and DQS would read a scaled dual quaternion differently.
+    for bad in (2 * world, np.zeros_like(world), np.full_like(world, np.nan)):
+        with pytest.raises(ValueError, match="bone_world: bone 0 is not a unit dual quaternion"):
+            dqkit.skin_vertices(skin, bad, dqkit.SkinningMethod.lbs)
 
 
 def test_installed_module_imports_from_the_prefix(tmp_path):

@@ -42,7 +42,9 @@ struct SkinPalette {
 };
 
 /// Fills the palette from the bones' rigid world transforms (one per bone, the skeleton's
-/// pose at the bones of this skin). Precondition: sizes match the skin. Allocates nothing.
+/// pose at the bones of this skin; unit dual quaternions: LBS would read a scaled one as a scale
+/// and DQS normalize it, so the methods would disagree). Precondition: sizes match the skin.
+/// Allocates nothing.
 void update_palette(const Skin& skin, std::span<const DualQuaternion<double>> bone_world, SkinPalette& palette);
 
 /// Skinned output, component arrays of at least `first + count` entries each. Normals and
