@@ -22,18 +22,20 @@ inline CLI::Validator finite_in(double low, double high) {
       "NUMBER in (" + CLI::detail::to_string(low) + ", " + CLI::detail::to_string(high) + "]");
 }
 
-/// A whole number in [0, high], digits only (CLI11 reads "-1" into an unsigned as 2^64 − 1).
-inline CLI::Validator whole_number_up_to(unsigned long long high) {
+/// A whole number in [0, high], digits only (CLI11 reads "-1" into an unsigned as 2^64 − 1);
+/// `what` names it in the error ("'-1' is not an animation number (0, 1, ...)"), `name` in the help.
+inline CLI::Validator whole_number_up_to(unsigned long long high, const std::string& what = "a whole number",
+                                         const std::string& name = "NUMBER") {
   return CLI::Validator(
-      [high](std::string& text) -> std::string {
+      [high, what](std::string& text) -> std::string {
         unsigned long long v = 0;
         const char* end = text.data() + text.size();
         const auto r = std::from_chars(text.data(), end, v);
-        if (text.empty() || r.ec != std::errc() || r.ptr != end) return "'" + text + "' is not a whole number (0, 1, 2, ...)";
+        if (text.empty() || r.ec != std::errc() || r.ptr != end) return "'" + text + "' is not " + what + " (0, 1, ...)";
         if (v > high) return "'" + text + "' is more than " + std::to_string(high);
         return {};
       },
-      "0 ... " + std::to_string(high));
+      high == ~0ull ? name : name + " in [0, " + std::to_string(high) + "]");
 }
 
 }  // namespace dq::cli

@@ -51,6 +51,29 @@ extern "C" void remove_temporaries_and_die(int sig) {
 
 std::string reason(int error) { return std::strerror(error); }
 
+std::filesystem::path directory_of(const std::filesystem::path& target) {
+  return target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
+}
+
+/// Gives a temporary file a fresh name beside `target`: `make(name)` (create the file with O_EXCL,
+/// or link an anonymous one) under up to 16 random names until one is free. Each name enters the
+/// signal handler's table before `make` runs, so that no signal, on any thread, lands between the
+/// file's creation and its registration; a name that turns out to be taken leaves the table at once.
+/// Returns 0, or the errno of the last attempt (`temporary` is then empty and `slot` −1).
+template <class Make>
+int name_temporary(const std::filesystem::path& target, std::filesystem::path& temporary, int& slot, Make make) {
+  std::random_device rd;
+  int error = EEXIST;
+  for (int attempt = 0; attempt < 16 && error == EEXIST; ++attempt) {
+    temporary = directory_of(target) / ("." + target.filename().string() + ".tmp" + std::to_string(rd()));
+    slot = claim_slot(temporary);
+    error = make(temporary.c_str());
+    if (error != 0) release_slot(std::exchange(slot, -1));
+  }
+  if (error != 0) temporary.clear();
+  return error;
+}
+
 constexpr const char* kNotRegular =
     ": is not a regular file (a symbolic link, device, FIFO or socket): dqkit writes only regular files, never through or over one";
 constexpr const char* kAlreadyExists = ": already exists; it is replaced only when asked (--force on the command line, overwrite=True in Python, Overwrite::allow in C++)";
@@ -79,7 +102,7 @@ Expected<OutputFile> OutputFile::create(const std::filesystem::path& path, Overw
   } else if (errno != ENOENT) {
     return Error{name + ": " + reason(errno)};
   }
-  const std::filesystem::path dir = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+  const std::filesystem::path dir = directory_of(path);
   OutputFile out;
   out.path_ = path;
   out.overwrite_ = overwrite;
@@ -91,21 +114,11 @@ Expected<OutputFile> OutputFile::create(const std::filesystem::path& path, Overw
     out.fd_ = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
     if (out.fd_ >= 0) return out;
   }
-  std::random_device rd;
-  int error = 0;
-  for (int attempt = 0; attempt < 16 && out.fd_ < 0; ++attempt) {
-    out.temporary_ = dir / ("." + path.filename().string() + ".tmp" + std::to_string(rd()));
-    // Entered in the handler's table before it is created, so that no signal, on any thread, lands
-    // between its creation and its registration. A name that turns out to be taken (O_EXCL)
-    // leaves the table at once.
-    out.slot_ = claim_slot(out.temporary_);
-    out.fd_ = ::open(out.temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    error = errno;
-    if (out.fd_ >= 0) break;
-    release_slot(std::exchange(out.slot_, -1));
-    if (error != EEXIST) break;
-  }
-  if (out.fd_ < 0) return Error{name + ": cannot create a file in " + dir.string() + ": " + reason(error)};
+  const int error = name_temporary(path, out.temporary_, out.slot_, [&](const char* name_to_make) {
+    out.fd_ = ::open(name_to_make, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    return out.fd_ >= 0 ? 0 : errno;
+  });
+  if (error != 0) return Error{name + ": cannot create a file in " + dir.string() + ": " + reason(error)};
   return out;
 }
 
@@ -201,20 +214,11 @@ Status OutputFile::commit() {
       }
       return {};
     }
-    // Replacing: a name beside the target for an instant (in the signal handler's table), then
-    // the rename below.
-    std::random_device rd;
-    int error = EEXIST;
-    for (int attempt = 0; attempt < 16 && error == EEXIST; ++attempt) {
-      temporary_ = path_.parent_path() / ("." + path_.filename().string() + ".tmp" + std::to_string(rd()));
-      slot_ = claim_slot(temporary_);
-      error = ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, temporary_.c_str(), AT_SYMLINK_FOLLOW) == 0 ? 0 : errno;
-      if (error != 0) release_slot(std::exchange(slot_, -1));
-    }
-    if (error != 0) {
-      temporary_.clear();
-      return fail("cannot create a file beside it", error);
-    }
+    // Replacing: a name beside the target for an instant, then the rename below.
+    const int error = name_temporary(path_, temporary_, slot_, [&](const char* name_to_make) {
+      return ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, name_to_make, AT_SYMLINK_FOLLOW) == 0 ? 0 : errno;
+    });
+    if (error != 0) return fail("cannot create a file beside it", error);
   }
   const int fd = std::exchange(fd_, -1);
   if (::close(fd) != 0) {

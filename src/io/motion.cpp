@@ -20,7 +20,6 @@ std::size_t resampled_frame_count(double seconds, double rate) {
   return static_cast<std::size_t>(std::max(steps, 0.0)) + 1;
 }
 
-
 bool is_bvh_file(const std::filesystem::path& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
   if (fd < 0) return false;

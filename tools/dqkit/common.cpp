@@ -8,6 +8,7 @@
 #include <array>
 #include <cerrno>
 #include <charconv>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -22,15 +23,7 @@ void print_warnings(const std::vector<std::string>& warnings) {
   for (const std::string& w : warnings) std::fprintf(stderr, "dqkit: warning: %s\n", w.c_str());
 }
 
-CLI::Validator animation_index() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        std::size_t v = 0;
-        const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
-        return r.ec == std::errc() && r.ptr == text.data() + text.size() ? "" : "'" + text + "' is not an animation number (0, 1, ...)";
-      },
-      "INDEX");
-}
+CLI::Validator animation_index() { return whole_number_up_to(std::numeric_limits<std::size_t>::max(), "an animation number", "INDEX"); }
 
 CLI::Validator file_name() {
   return CLI::Validator([](std::string& text) -> std::string { return text.empty() ? "an empty file name ('-' is standard input or output)" : ""; },

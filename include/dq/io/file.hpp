@@ -1,8 +1,8 @@
 // Safe file writing: the contents go to a file without a name in the target's directory
 // (O_TMPFILE; a named temporary file where the file system has none), which is then linked in as
-// the target (exclusively) or renamed over it, so a failure at any point, a SIGKILL included, leaves
-// what was there before intact and nothing beside it. An existing target is only replaced when the caller says so, and only if it is a regular
-// file; its permissions are kept.
+// the target (exclusively) or renamed over it, so a failure at any point, a SIGKILL included,
+// leaves what was there before intact and nothing beside it. An existing target is only replaced
+// when the caller says so, and only if it is a regular file; its permissions are kept.
 #pragma once
 
 #include <filesystem>
@@ -54,8 +54,9 @@ class OutputFile {
 Status write_file_atomically(const std::filesystem::path& path, std::string_view contents, Overwrite overwrite);
 
 /// Makes SIGINT, SIGTERM, SIGHUP, SIGQUIT and SIGXFSZ remove the named temporary files of every
-/// OutputFile in progress (anonymous ones need nothing) before the process dies of the signal (handlers are installed only for
-/// signals whose disposition is the default; a program calls this once, e.g. from main()).
+/// OutputFile in progress (anonymous ones need nothing) before the process dies of the signal
+/// (handlers are installed only for signals whose disposition is the default; a program calls
+/// this once, e.g. from main()).
 void remove_temporary_files_on_signals();
 
 }  // namespace dq

@@ -40,13 +40,12 @@ struct MotionOptions {
 };
 
 /// Frames that cover `seconds` at `rate`: ⌈seconds × rate⌉ + 1, at f / rate, so that a source
-/// whose frames lie on the grid keeps them to rounding (120 Hz to 30 Hz: every 4th). The last frame lies
-/// at or up to one frame past the end and holds the clip's last pose (a clip of 1.03 s at 30 Hz has
-/// 32 frames, the last at 31/30 s with the pose of 1.03 s): nothing of the clip is lost, and the
-/// resampled duration is at most one frame longer. Saturates at the largest std::size_t where the
+/// whose frames lie on the grid keeps them to rounding (120 Hz to 30 Hz: every 4th). The last
+/// frame lies at or up to one frame past the end and holds the clip's last pose (a clip of 1.03 s
+/// at 30 Hz has 32 frames, the last at 31/30 s with the pose of 1.03 s): nothing of the clip is
+/// lost, and the resampled duration is at most one frame longer. Saturates at the largest std::size_t where the
 /// count would not fit (a memory budget then refuses it).
 std::size_t resampled_frame_count(double seconds, double rate);
-
 
 /// Whether the file's content is BVH (after an optional UTF-8 byte-order mark and whitespace,
 /// the word HIERARCHY), whatever its name. Never blocks (FIFOs and devices are not BVH).
