@@ -101,21 +101,27 @@ void ComposeGlmDualquat(benchmark::State& s) {
   ComposeMatrices<glm::tdualquat<T>, T>(s, [](const auto& q) { return dq::glm_interop::to_glm(q); });
 }
 
-// ---- composition as a latency chain: x = x * a[i], each product waiting for the one before -----
+// ---- composition as a latency chain, each product waiting for the one before ---------------------
+/// Which operand carries the chain: x = x * a[i] appends a child transform (forward kinematics
+/// from the root); x = a[i] * x prepends a parent (from a leaf towards the root). A product's
+/// operands enter it differently (a matrix product broadcasts the right operand's elements, the
+/// four-lane Hamilton product the left's), so the two chains cost different amounts.
+enum class Chained { left, right };
 /// The chain's result of each representation, as a dqkit 4x4 matrix, is checked once outside the
 /// timing against the dual-quaternion chain computed in double (the same work, the same result).
-template <class M, class Make, class ToMat4>
+template <class M, Chained side = Chained::left, class Make, class ToMat4>
 void ComposeChain(benchmark::State& state, Make make, ToMat4 to_mat4) {
   const auto q = random_transforms<float>(7);
   std::vector<M> a;
   for (const auto& x : q) a.push_back(make(x));
-  auto chain = [&a] {
+  const auto step = [](const auto& x, const auto& next) { return side == Chained::left ? x * next : next * x; };
+  auto chain = [&a, &step] {
     M x = a[0];
-    for (std::size_t i = 1; i < kCount; ++i) x = x * a[i];
+    for (std::size_t i = 1; i < kCount; ++i) x = step(x, a[i]);
     return x;
   };
   dq::DualQuaternion<double> reference = q[0].template cast<double>();
-  for (std::size_t i = 1; i < kCount; ++i) reference = reference * q[i].template cast<double>();
+  for (std::size_t i = 1; i < kCount; ++i) reference = step(reference, q[i].template cast<double>());
   const dq::Mat4<double> expected = dq::to_mat4(reference), got = to_mat4(chain());
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c)
@@ -131,20 +137,25 @@ dq::Mat4<double> read_mat4(At at) {
     for (int c = 0; c < 4; ++c) out(r, c) = at(r, c);
   return out;
 }
+template <Chained side>
 void ChainDualQuaternion(benchmark::State& s) {
-  ComposeChain<dq::DualQuaternion<float>>(s, [](const auto& q) { return q; }, [](const auto& x) { return dq::to_mat4(x.template cast<double>()); });
+  ComposeChain<dq::DualQuaternion<float>, side>(s, [](const auto& q) { return q; },
+                                                [](const auto& x) { return dq::to_mat4(x.template cast<double>()); });
 }
+template <Chained side>
 void ChainGlmDualquat(benchmark::State& s) {
-  ComposeChain<glm::dualquat>(s, [](const auto& q) { return dq::glm_interop::to_glm(q); },
-                              [](const glm::dualquat& x) { return dq::to_mat4(dq::glm_interop::from_glm(x).cast<double>()); });
+  ComposeChain<glm::dualquat, side>(s, [](const auto& q) { return dq::glm_interop::to_glm(q); },
+                                    [](const glm::dualquat& x) { return dq::to_mat4(dq::glm_interop::from_glm(x).cast<double>()); });
 }
+template <Chained side>
 void ChainGlmMat4(benchmark::State& s) {
-  ComposeChain<glm::mat4>(s, [](const auto& q) { return dq::glm_interop::to_glm(dq::to_mat4(q)); },
-                          [](const glm::mat4& x) { return read_mat4([&](int r, int c) { return x[c][r]; }); });
+  ComposeChain<glm::mat4, side>(s, [](const auto& q) { return dq::glm_interop::to_glm(dq::to_mat4(q)); },
+                                [](const glm::mat4& x) { return read_mat4([&](int r, int c) { return x[c][r]; }); });
 }
+template <Chained side>
 void ChainEigenMatrix4(benchmark::State& s) {
-  ComposeChain<Eigen::Matrix4f>(s, [](const auto& q) { return dq::eigen::to_eigen(dq::to_mat4(q)); },
-                                [](const Eigen::Matrix4f& x) { return read_mat4([&](int r, int c) { return x(r, c); }); });
+  ComposeChain<Eigen::Matrix4f, side>(s, [](const auto& q) { return dq::eigen::to_eigen(dq::to_mat4(q)); },
+                                      [](const Eigen::Matrix4f& x) { return read_mat4([&](int r, int c) { return x(r, c); }); });
 }
 
 // ---- transforming points: out[i] = T[i] p[i] -----------------------------------------------------
@@ -269,10 +280,14 @@ BENCHMARK(ComposeGlmDualquat<float>);
 BENCHMARK(ComposeDualQuaternion<double>);
 BENCHMARK(ComposeEigenIsometry<double>);
 BENCHMARK(ComposeGlmMat4<double>);
-BENCHMARK(ChainDualQuaternion);
-BENCHMARK(ChainGlmDualquat);
-BENCHMARK(ChainGlmMat4);
-BENCHMARK(ChainEigenMatrix4);
+BENCHMARK(ChainDualQuaternion<Chained::left>)->Name("ChainDualQuaternion");
+BENCHMARK(ChainGlmDualquat<Chained::left>)->Name("ChainGlmDualquat");
+BENCHMARK(ChainGlmMat4<Chained::left>)->Name("ChainGlmMat4");
+BENCHMARK(ChainEigenMatrix4<Chained::left>)->Name("ChainEigenMatrix4");
+BENCHMARK(ChainDualQuaternion<Chained::right>)->Name("PrependChainDualQuaternion");
+BENCHMARK(ChainGlmDualquat<Chained::right>)->Name("PrependChainGlmDualquat");
+BENCHMARK(ChainGlmMat4<Chained::right>)->Name("PrependChainGlmMat4");
+BENCHMARK(ChainEigenMatrix4<Chained::right>)->Name("PrependChainEigenMatrix4");
 BENCHMARK(PointDualQuaternion);
 BENCHMARK(PointDualQuaternionSandwich);
 BENCHMARK(PointMat34);

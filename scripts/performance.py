@@ -58,6 +58,8 @@ ONE_AT_A_TIME = (
     ("compose, throughput (out[i] = a[i] * b[i])", ["ComposeDualQuaternion<float>"],
      ["ComposeGlmDualquat<float>", "ComposeGlmMat4<float>", "ComposeEigenMatrix4<float>", "ComposeEigenIsometry<float>"]),
     ("compose, latency chain (x = x * a[i])", ["ChainDualQuaternion"], ["ChainGlmDualquat", "ChainGlmMat4", "ChainEigenMatrix4"]),
+    ("compose, latency chain prepending (x = a[i] * x)", ["PrependChainDualQuaternion"],
+     ["PrependChainGlmDualquat", "PrependChainGlmMat4", "PrependChainEigenMatrix4"]),
     ("compose in double, throughput", ["ComposeDualQuaternion<double>"], ["ComposeGlmMat4<double>", "ComposeEigenIsometry<double>"]),
     ("transform a point", ["PointDualQuaternion", "PointMat34"], ["PointEigenIsometry", "PointGlmMat4", "PointGlmDualquat"]),
     ("slerp", ["SlerpDqkit"], ["SlerpEigen", "SlerpGlm"]),

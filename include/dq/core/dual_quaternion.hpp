@@ -8,12 +8,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstddef>
 #include <limits>
 #include <ostream>
 
 #include "dq/core/dual.hpp"
 #include "dq/core/quaternion.hpp"
+#if DQKIT_PRODUCT_EIGHT_LANES
+#include <immintrin.h>  // the eight-lane product's insertion of the dual part (detail::dual_product_lanes)
+#endif
 
 namespace dq {
 
@@ -258,19 +260,20 @@ namespace detail {
 /// The float product with AVX's eight lanes: (a_r b_r, a_r b_d) as one eight-lane Hamilton product
 /// of a_r's components (broadcast from memory) with b's signed permutations, whose low halves then
 /// serve a_d b_r; the same operations in the same order as the four-lane form, so bit for bit
-/// its result. Faster for independent products (DQKIT_PRODUCT_EIGHT_LANES); in a chain (x = x · a)
-/// the broadcasts come from registers and cross lanes, and the chain is slower than with four
-/// lanes, still faster than GLM's (6.2 against 4.7 µs per 1024 links, GLM's 8.3–8.7; docs/performance.md).
+/// its result. Faster for independent products (DQKIT_PRODUCT_EIGHT_LANES); in a chain the
+/// operands cross lanes in registers, and chains are slower than with four lanes, still faster
+/// than GLM's (docs/performance.md). b enters as its two halves, the dual part inserted above the
+/// real part (AVX's vinsertf128, from memory or a register), not as one 32-byte copy of its
+/// memory: in a chain x = a · x that copy read a dual quaternion just stored as two 16-byte
+/// halves, which a load cannot take from the stores in flight (bench_core's
+/// PrependChainDualQuaternion: 9.4–10.8 against 6.0 µs per 1024 links, GLM's 7.4). (Joined with
+/// a generic two-vector shuffle instead, GCC 12 loads both halves apart: one instruction more.)
 [[gnu::always_inline]] inline DualQuaternion<float> dual_product_lanes(const DualQuaternion<float>& a,
                                                                        const DualQuaternion<float>& b) noexcept {
-  static_assert(sizeof(DualQuaternion<float>) == 8 * sizeof(float) && std::is_trivially_copyable_v<DualQuaternion<float>> &&
-                    std::is_standard_layout_v<DualQuaternion<float>> && offsetof(DualQuaternion<float>, dual) == 4 * sizeof(float),
-                "the eight-lane product copies a dual quaternion as eight floats, real part first");
   using float8 = float __attribute__((vector_size(32)));
   const auto all8 = [](float v) { return float8{v, v, v, v, v, v, v, v}; };
   const auto all4 = [](float v) { return float4{v, v, v, v}; };
-  float8 vb;
-  std::memcpy(&vb, &b, sizeof vb);
+  const float8 vb = _mm256_insertf128_ps(_mm256_castps128_ps256(to_lanes(b.real)), to_lanes(b.dual), 1);
   const float8 b1 = __builtin_shufflevector(vb, vb, 1, 0, 3, 2, 5, 4, 7, 6) * float8{-1, 1, -1, 1, -1, 1, -1, 1};
   const float8 b2 = __builtin_shufflevector(vb, vb, 2, 3, 0, 1, 6, 7, 4, 5) * float8{-1, 1, 1, -1, -1, 1, 1, -1};
   const float8 b3 = __builtin_shufflevector(vb, vb, 3, 2, 1, 0, 7, 6, 5, 4) * float8{-1, -1, 1, 1, -1, -1, 1, 1};
