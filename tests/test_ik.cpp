@@ -113,6 +113,42 @@ TEST(KinematicModel, ScrewJacobianEqualsForwardModeAndFiniteDifferences) {
   check_jacobian(balls, random_parameters(balls, rng, 2.0));
 }
 
+TEST(KinematicModel, AxesOfAnyLengthAreNormalizedAndZeroAxesRefused) {
+  RawSkeleton raw;
+  raw.add("tip", raw.add("base", -1, DualQuaternion<double>::identity()), DualQuaternion<double>::from_translation({1, 0, 0}));
+  const Skeleton skeleton = *build_skeleton(raw);
+  const Expected<KinematicModel> scaled = KinematicModel::build(skeleton, {{0, DofType::revolute, {0, 0, 3}, "yaw"}});
+  ASSERT_TRUE(scaled.has_value()) << scaled.error().message;
+  EXPECT_EQ(scaled->dofs()[0].axis, (Vec3<double>{0, 0, 1}));
+  // A quarter turn about the axis given as (0, 0, 3) takes the tip from +x to +y.
+  const std::vector<double> q{std::numbers::pi / 2};
+  std::vector<DualQuaternion<double>> world(2);
+  model_transforms<DualQuaternion<double>, double>(*scaled, q, world);
+  EXPECT_LE(norm(world[1].translation() - Vec3<double>{0, 1, 0}), 1e-15);
+  for (const Vec3<double>& axis : {Vec3<double>{0, 0, 0}, Vec3<double>{0, NAN, 1}, Vec3<double>{INFINITY, 0, 0}}) {
+    const Expected<KinematicModel> bad = KinematicModel::build(skeleton, {{0, DofType::prismatic, axis, "slide"}});
+    ASSERT_FALSE(bad.has_value());
+    EXPECT_NE(bad.error().message.find("the axis has no direction"), std::string::npos) << bad.error().message;
+  }
+}
+
+TEST(KinematicModel, ForwardKinematicsWithWrongSizesReportsAndWritesNothing) {
+  // With a handler that returns, the violated precondition returns from the function: no read
+  // or write past the model's joints (an output of 100 used to be walked to its end).
+  static int calls = 0;
+  const PreconditionHandler previous = set_precondition_handler([](const PreconditionViolation&) { ++calls; });
+  const KinematicModel& arm = KinematicModel::arm7();
+  const std::vector<double> q(7, 0.2), short_q(6, 0.2);
+  const DualQuaternion<double> marker = DualQuaternion<double>::from_translation({7, 7, 7});
+  std::vector<DualQuaternion<double>> long_world(100, marker), world(arm.skeleton().size(), marker);
+  model_transforms<DualQuaternion<double>, double>(arm, q, long_world);
+  model_transforms<DualQuaternion<double>, double>(arm, short_q, world);
+  set_precondition_handler(previous);
+  EXPECT_EQ(calls, 2);
+  for (const auto& x : long_world) EXPECT_EQ(x, marker);
+  for (const auto& x : world) EXPECT_EQ(x, marker);
+}
+
 TEST(KinematicModel, BipedPoseIsGenericOverTheScalar) {
   // Biped::pose with Dual<double> values: the derivative of each joint's transform by one DOF,
   // against central differences of the double version.
@@ -279,6 +315,43 @@ TEST(IkSolver, InvalidInputIsAnErrorAndLeavesQUntouched) {
   nan_q[2] = std::nan("");
   const IkResult r = solver.solve(std::span(&bad, 1), nan_q);
   EXPECT_EQ(r.status, IkStatus::invalid_input);
+  IkTask slightly_off = IkTask::frame(7, DualQuaternion<double>(1 + 1e-5, 0, 0, 0, 0, 0, 0, 0));
+  expect_invalid(slightly_off, q, "target 1e-5 off unit");
+  IkTask no_direction = IkTask::onto_line(7, {0.4, 0, 0.6}, {0, 0, 0});
+  expect_invalid(no_direction, q, "line without a direction");
+  IkTask wrong_level = bad;
+  wrong_level.priority = kIkPriorityLevels;
+  expect_invalid(wrong_level, q, "priority beyond the levels");
+  const std::vector<IkTask> too_many(kIkMaxTasks + 1, bad);
+  EXPECT_EQ(solver.solve(too_many, q).status, IkStatus::invalid_input);
+  EXPECT_EQ(q, before);
+}
+
+TEST(IkSolver, TargetsFromFloatDataAndAxesOfAnyLengthAreNormalized) {
+  // A pose target that went through float (unit to about 1e-7, not to 1e-9), and a line whose
+  // direction is not unit: solved as their normalized selves, to the full tolerance.
+  const KinematicModel& arm = KinematicModel::arm7();
+  const int flange = arm.skeleton().find("flange");
+  IkSolver solver(arm);
+  std::vector<double> reached(7, 0.3);
+  const DualQuaternion<double> exact = frame_at(arm, reached, flange);
+  const DualQuaternion<double> from_float = exact.cast<float>().cast<double>();
+  ASSERT_FALSE(from_float.is_unit(1e-9));
+  std::vector<double> q(7, 0.1);
+  IkTask pose = IkTask::frame(flange, from_float);
+  IkResult r = solver.solve(std::span(&pose, 1), q);
+  ASSERT_EQ(r.status, IkStatus::converged) << r.message;
+  const DualQuaternion<double> got = frame_at(arm, q, flange), want = from_float.normalized();
+  EXPECT_LE(norm(got.translation() - want.translation()), 1e-9);
+  EXPECT_LE(angular_distance(got.real, want.real), 1e-9);
+
+  const Vec3<double> through{0.4, 0.0, 0.6}, direction{0, 2, 0.4};  // |direction| ≈ 2.04
+  IkTask line = IkTask::onto_line(flange, through, direction);
+  std::vector<double> q2(7, 0.1);
+  r = solver.solve(std::span(&line, 1), q2);
+  ASSERT_EQ(r.status, IkStatus::converged) << r.message;
+  const Vec3<double> d = normalized(direction), e = through - frame_at(arm, q2, flange).translation();
+  EXPECT_LE(norm(e - d * dot(d, e)), 1e-9);
 }
 
 TEST(IkSolver, SolvesAllocateNothing) {

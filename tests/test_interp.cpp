@@ -445,6 +445,28 @@ TEST(Sclerp, EdgeCasesNeverNaN) {
               kPi - 0.5, 1e-14);
 }
 
+TEST(Sclerp, InputsOffUnitAreTheTransformsTheyStandFor) {
+  // Scaled inputs (their real parts' norms off 1) and a dual part with a component along the real
+  // part: interpolated as the rigid transforms they normalize to. Reference: sclerp of the unit
+  // inputs themselves (for the scaled ones) and the endpoints (for the skewed one). These gave
+  // NaN (scale 2, 1.5) or a wrong rotation (0.5, 1.01) before sclerp normalized its inputs.
+  Random rng(431);
+  for (int n = 0; n < 200; ++n) {
+    const DualQuaternion<double> a = rng.rigid<double>(3), b = rng.rigid<double>(3);
+    const double t = rng.uniform<double>(-0.5, 1.5);
+    const DualQuaternion<double> want = sclerp(a, b, t);
+    for (const double scale : {2.0, 1.5, 1.01, 0.5, 1 + 1e-9}) {
+      const DualQuaternion<double> got = sclerp(a * scale, b * (1 / scale), t);
+      ASSERT_TRUE(got.is_unit(1e-14)) << n << " scale " << scale;
+      ASSERT_TRUE(approx_equal(got, want, 1e-12, SignPolicy::same_rotation)) << n << " scale " << scale << " t " << t;
+    }
+    DualQuaternion<double> skewed = a;
+    skewed.dual = skewed.dual + skewed.real * 0.01;  // q_r · q_d = 0.01: not a rigid transform as given
+    EXPECT_TRUE(approx_equal(sclerp(skewed, b, 0.0), skewed.normalized(), 1e-14, SignPolicy::same_rotation)) << n;
+    EXPECT_TRUE(approx_equal(sclerp(skewed, b, 1.0), b, 1e-13, SignPolicy::same_rotation)) << n;
+  }
+}
+
 template <class T>
 DualQuaternion<Dual<T>> lift(const DualQuaternion<T>& q) {
   auto l = [](const Quaternion<T>& p) { return Quaternion<Dual<T>>(p.w, p.x, p.y, p.z); };

@@ -209,6 +209,15 @@ TEST(NaNPolicy, NaNInputsNeverBecomeFinite) {
   EXPECT_TRUE(has_nan(from_matrix(m)));
   m(3, 1) = 0;
   EXPECT_FALSE(has_nan(from_matrix(m)));
+  // slerp at its endpoints: t = 1 once returned b whatever a was.
+  for (const double t : {0.0, 1.0}) {
+    const Quaternion<double> q = Quaternion<double>::from_axis_angle({0, 1, 0}, 0.4);
+    const Quaternion<double> from_nan = slerp(Quaternion<double>(nan, 0, 0, 0), q, t), to_nan = slerp(q, Quaternion<double>(nan, 0, 0, 0), t);
+    EXPECT_TRUE(std::isnan(from_nan.w) || std::isnan(from_nan.x)) << t;
+    EXPECT_TRUE(std::isnan(to_nan.w) || std::isnan(to_nan.x)) << t;
+    const Quaternion<float> f = slerp(Quaternion<float>(std::nanf(""), 0, 0, 0), q.cast<float>(), static_cast<float>(t));
+    EXPECT_TRUE(std::isnan(f.w) || std::isnan(f.x)) << t;
+  }
 }
 
 TEST(NaNPolicy, InfiniteInputsEndAndStayNonFinite) {

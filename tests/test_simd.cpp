@@ -150,6 +150,42 @@ TEST(Simd, SlerpOverArraysHasNoFailureCaseAndFloatAccuracy) {
   }
 }
 
+TEST(Simd, SlerpTakesDqSlerpsArcAtExactTies) {
+  // b = a·i = (−x, w, z, −y) and two more signed swaps of a's components: a · b is exactly 0 (its
+  // products cancel in adjacent pairs), both arcs are equally short, and dq::slerp keeps b as
+  // given. The batch kernel must take the same arc (it took the other one for about 1 pair in 140
+  // when it decided from a normalized a, whose products no longer cancel exactly). Same arc:
+  // within the kernel's 16 ulps of dq::slerp; the other arc is about 1 away.
+  test::Random rng(81);
+  std::vector<Quaternion<float>> a, b;
+  for (int k = 0; k < 400; ++k) {
+    const Quaternion<float> q = rng.rotation<float>();
+    for (const Quaternion<float>& tie : {q * Quaternion<float>(0, 1, 0, 0), Quaternion<float>(-q.x, q.w, -q.z, q.y), Quaternion<float>(q.x, -q.w, -q.z, q.y)}) {
+      a.push_back(q);
+      b.push_back(tie);
+      ASSERT_EQ(dot(a.back(), b.back()), 0.0f);
+    }
+  }
+  const std::size_t n = a.size();
+  std::vector<float> in[8], out[4];
+  for (auto& v : in) v.resize(n);
+  for (auto& v : out) v.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    in[0][i] = a[i].w, in[1][i] = a[i].x, in[2][i] = a[i].y, in[3][i] = a[i].z;
+    in[4][i] = b[i].w, in[5][i] = b[i].x, in[6][i] = b[i].y, in[7][i] = b[i].z;
+  }
+  for (const float t : {0.3f, 0.7f}) {
+    for_each_target([&](Target) {
+      simd::slerp({in[0].data(), in[1].data(), in[2].data(), in[3].data()}, {in[4].data(), in[5].data(), in[6].data(), in[7].data()}, t,
+                  {out[0].data(), out[1].data(), out[2].data(), out[3].data()}, n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const Quaternion<float> want = slerp(a[i], b[i], t), got(out[0][i], out[1][i], out[2][i], out[3][i]);
+        ASSERT_LE(test::max_abs_diff(got, want), 16 * std::numeric_limits<float>::epsilon()) << "t " << t << " pair " << i;
+      }
+    });
+  }
+}
+
 // ---- inverse, directions, normalize, dlb, sclerp over arrays ---------------------------------------
 
 /// Sizes that exercise the vector loop and the tails of every width (and none at all).

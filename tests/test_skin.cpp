@@ -154,6 +154,48 @@ TEST(SkinContract, RejectsBadInputWithReasons) {
   expect_error(r, "triangle 0 has a vertex index out of range");
 }
 
+TEST(SkinContract, JobsThatCannotRunAreRefusedWithReasons) {
+  Random rng(2);
+  RawSkin raw = random_skin(rng, 10, 3, 3);
+  const Skin skin = *build_skin(raw);
+  ASSERT_TRUE(skin.has_normals());
+  SkinPalette palette(skin.bone_count());
+  update_palette(skin, random_pose(rng, 3), palette);
+  Output out(10);
+  const auto refused = [&](const SkinningJob& job, const std::string& part) {
+    const Status s = job.validate();
+    ASSERT_FALSE(s.ok()) << "accepted, expected: " << part;
+    EXPECT_NE(s.error().message.find(part), std::string::npos) << s.error().message;
+  };
+  const SkinningJob good{&skin, &palette, SkinningMethod::dqs, out.view(true, false), 0, 10};
+  ASSERT_TRUE(good.validate().ok());
+  SkinningJob job = good;
+  job.out.ny = {}, job.out.nz = {};  // nx alone: run() would write normals through empty ny, nz
+  refused(job, "normals need all three arrays");
+  job = good;
+  job.out.tx = out.tx;
+  refused(job, "tangents need all three arrays");
+  job = good;
+  job.out.py = job.out.px;
+  refused(job, "two output arrays overlap");
+  job = good;
+  job.out.nz = std::span<float>(out.px).subspan(5);  // overlaps px in [5, 10), and too short
+  refused(job, "an array is too short");
+  job.out.nz = std::span<float>(out.nx).subspan(0, 10), job.out.nx = std::span<float>(out.pz);
+  refused(job, "two output arrays overlap");
+  job = good;
+  job.count = 11;
+  refused(job, "the vertex range exceeds the skin");
+  job = good;
+  job.out.pz = std::span<float>(out.pz).subspan(0, 9);
+  refused(job, "a position array is shorter than the vertex range");
+  // Disjoint parts of one buffer are fine: outputs over [first, first + count) only.
+  std::vector<float> one(30);
+  job = good;
+  job.out = {std::span<float>(one).subspan(0, 10), std::span<float>(one).subspan(10, 10), std::span<float>(one).subspan(20, 10), {}, {}, {}, {}, {}, {}};
+  EXPECT_TRUE(job.validate().ok());
+}
+
 TEST(SkinContract, NormalizesOnceAndOrdersCanonically) {
   RawSkin raw;
   raw.positions = {{0, 0, 0}, {1, 0, 0}};

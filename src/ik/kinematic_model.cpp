@@ -21,7 +21,7 @@ Expected<KinematicModel> KinematicModel::build(Skeleton skeleton, std::vector<Do
     if (dof.joint < previous_joint) return Error{where + ": DOFs must come in joint order"};
     if (dof.type == DofType::revolute || dof.type == DofType::prismatic) {
       const double n = norm(dof.axis);
-      if (!(std::abs(n - 1) <= 1e-12)) return Error{where + ": the axis is not unit"};
+      if (!(n > 0) || !std::isfinite(n)) return Error{where + ": the axis has no direction (zero or not finite)"};
       dof.axis = dof.axis / n;  // unit to rounding: revolute_rotation relies on it
     }
     previous_joint = dof.joint;

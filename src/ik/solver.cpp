@@ -17,7 +17,9 @@ namespace dq {
 
 namespace {
 
-constexpr int kMaxLevels = 4;
+constexpr int kMaxLevels = kIkPriorityLevels;
+constexpr std::size_t kMaxTasks = kIkMaxTasks;
+constexpr double kTargetUnitTolerance = 1e-6;
 /// The first step's damping grows with the error at the start: λ₀ = initial_damping + kDampingPerCost ×
 /// Σ w |r|² (as Sugihara's λ = E + w̄, IEEE T-RO 2011): heavy far from the target, where the
 /// linearization is poor and a long step lands on the limits, light for a warm start close to it.
@@ -85,6 +87,7 @@ struct BasicIkSolver<X>::Workspace {
   Eigen::VectorXd residual, spare_residual, weights, weighted, row_vector, gradient, step, level_step, rhs, q, trial, best, rest;
   Eigen::LDLT<Eigen::MatrixXd> ldlt;
   std::vector<std::size_t> row_of;  // first row of each task
+  std::vector<IkTask> tasks;        // the tasks solved: the caller's, targets and axes normalized
   std::vector<std::uint8_t> fixed;  // parameter pinned at a limit this iteration (or not free)
   std::vector<std::uint8_t> free;   // set_free_parameters
   std::vector<HyperDual<double>> qh;
@@ -132,7 +135,8 @@ struct BasicIkSolver<X>::Workspace {
         free(n, 1),
         qh(n),
         world_h(joints) {
-    row_of.reserve(64);
+    row_of.reserve(kMaxTasks);
+    tasks.reserve(kMaxTasks);
     jacobian.setZero();
   }
 };
@@ -381,7 +385,7 @@ double newton_terms(const KinematicModel& model, std::span<const IkTask> tasks, 
 }  // namespace
 
 template <class X>
-IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double> q_io, std::span<const double> rest) {
+IkResult BasicIkSolver<X>::solve(std::span<const IkTask> requested, std::span<double> q_io, std::span<const double> rest) {
   Workspace& ws = *ws_;
   const KinematicModel& model = *model_;
   const std::size_t n = ws.n;
@@ -399,9 +403,11 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
     if (!std::isfinite(v)) return invalid("q has a non-finite value");
   for (double v : rest)
     if (!std::isfinite(v)) return invalid("rest has a non-finite value");
+  if (requested.size() > kMaxTasks) return invalid("too many tasks (at most 64)");
   ws.row_of.clear();
+  ws.tasks.assign(requested.begin(), requested.end());  // within the capacity reserved: no allocation
   std::size_t rows = 0;
-  for (const IkTask& t : tasks) {
+  for (IkTask& t : ws.tasks) {
     if (t.joint < 0 || static_cast<std::size_t>(t.joint) >= ws.joints) return invalid("a task's effector is not a joint of the model");
     if (t.priority < 0 || t.priority >= kMaxLevels) return invalid("task priorities must be 0 to 3");
     if (t.priority > 0 && options_.method == IkMethod::gauss_seidel)
@@ -411,13 +417,19 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> tasks, std::span<double
     for (double v : {c.real.w, c.real.x, c.real.y, c.real.z, c.dual.w, c.dual.x, c.dual.y, c.dual.z, t.point.x, t.point.y,
                      t.point.z, t.axis.x, t.axis.y, t.axis.z, t.location.x, t.location.y, t.location.z})
       if (!std::isfinite(v)) return invalid("a task has a non-finite value");
-    if (!c.is_unit(1e-9)) return invalid("a task's target is not a unit dual quaternion");
-    if ((t.kind == TaskKind::aim || t.kind == TaskKind::point_on_line) && std::abs(norm(t.axis) - 1) > 1e-9)
-      return invalid("a task's axis is not unit");
-    if (ws.row_of.size() == ws.row_of.capacity()) return invalid("too many tasks (at most 64)");
+    // Targets read from float data are unit to about 1e-7: accepted to 1e-6 and normalized, so
+    // that the errors measured against them are exact; further off, a target is not a transform.
+    if (!c.is_unit(kTargetUnitTolerance)) return invalid("a task's target is not a unit dual quaternion (to 1e-6)");
+    t.target = c.normalized();
+    if (t.kind == TaskKind::aim || t.kind == TaskKind::point_on_line) {
+      const double length = norm(t.axis);
+      if (!(length > 0)) return invalid("a task's axis has no direction (zero length)");
+      t.axis = t.axis / length;
+    }
     ws.row_of.push_back(rows);
     rows += task_rows(t.kind);
   }
+  const std::span<const IkTask> tasks(ws.tasks);
   if (rows > static_cast<std::size_t>(ws.residual.size())) return invalid("more task rows than options.max_rows");
   const auto m = static_cast<Eigen::Index>(rows);
   int last_level = 0;

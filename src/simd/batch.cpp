@@ -292,8 +292,11 @@ struct Slerp {
     const V tt = t, one = 1.0f, zero = 0.0f;
     Quaternion<V> qa = load4<N>(a, i);
     const Quaternion<V> qb = load4<N>(b, i);
-    qa = qa * (one / sqrt(dot(qa, qa)));
+    // The arc from the inputs' own a · b, the sum dq::slerp takes its sign from (for inputs unit
+    // to rounding): at an exact tie (a · b = 0) both take b's arc as given. (From a normalized
+    // first, the tie's products no longer cancel exactly, and the sign of the rounding chose.)
     const V sign = select_less(dot(qa, qb), zero, -one, one);
+    qa = qa * (one / sqrt(dot(qa, qa)));
     Quaternion<V> r = detail::hamilton(qa.conjugate(), qb * sign);
     r = r * (one / sqrt(dot(r, r)));
     const Vec3<V> v = r.vec();

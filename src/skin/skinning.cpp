@@ -45,10 +45,24 @@ Status SkinningJob::validate() const {
   const std::size_t end = first + count;
   for (auto s : {out.px, out.py, out.pz})
     if (s.size() < end) return Error{"skinning job: a position array is shorter than the vertex range"};
+  // Normals and tangents are written as triples: all three arrays, or none (run() decides by x).
+  const auto partial = [](std::span<float> x, std::span<float> y, std::span<float> z) {
+    return !(x.empty() == y.empty() && y.empty() == z.empty());
+  };
+  if (partial(out.nx, out.ny, out.nz)) return Error{"skinning job: normals need all three arrays (nx, ny, nz) or none"};
+  if (partial(out.tx, out.ty, out.tz)) return Error{"skinning job: tangents need all three arrays (tx, ty, tz) or none"};
   for (auto s : {out.nx, out.ny, out.nz})
     if (!s.empty() && (s.size() < end || !skin->has_normals())) return Error{"skinning job: normals requested but the skin has none or an array is too short"};
   for (auto s : {out.tx, out.ty, out.tz})
     if (!s.empty() && (s.size() < end || !skin->has_tangents())) return Error{"skinning job: tangents requested but the skin has none or an array is too short"};
+  // Each output's part [first, end) is written once per vertex: two parts that overlap would
+  // receive each other's values.
+  const std::span<float> written[] = {out.px, out.py, out.pz, out.nx, out.ny, out.nz, out.tx, out.ty, out.tz};
+  for (std::size_t i = 0; i < std::size(written); ++i)
+    for (std::size_t j = i + 1; j < std::size(written); ++j)
+      if (!written[i].empty() && !written[j].empty() &&
+          overlaps(written[i].subspan(first, count), written[j].subspan(first, count)))
+        return Error{"skinning job: two output arrays overlap in the vertex range"};
   if (method == SkinningMethod::cor && !skin->has_centers()) return Error{"skinning job: CoR needs a skin built with centres of rotation"};
   return {};
 }

@@ -23,6 +23,27 @@ run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer/project -B ${WORK_DIR}/cons
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/consumer)
 run(${WORK_DIR}/consumer/consumer)
 
+# The same consumer where the optional components' libraries are missing (Assimp, GLFW): it
+# configures, builds and runs without them (their targets are not defined); a consumer that
+# requires one gets the package's reason.
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer/project -B ${WORK_DIR}/consumer_without -DCMAKE_PREFIX_PATH=${installed}
+    -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_DISABLE_FIND_PACKAGE_assimp=ON -DCMAKE_DISABLE_FIND_PACKAGE_glfw3=ON)
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/consumer_without)
+run(${WORK_DIR}/consumer_without/consumer)
+if(output MATCHES "rendered|imported")
+  message(FATAL_ERROR "the consumer without Assimp and GLFW used their components: ${output}")
+endif()
+if(WITH_ASSIMP)
+  file(WRITE ${WORK_DIR}/requires_import/CMakeLists.txt
+    "cmake_minimum_required(VERSION 3.25)\nproject(requires_import LANGUAGES CXX)\nfind_package(dqkit REQUIRED CONFIG COMPONENTS io import)\n")
+  execute_process(COMMAND ${CMAKE_COMMAND} -S ${WORK_DIR}/requires_import -B ${WORK_DIR}/requires_import/build
+                  -DCMAKE_PREFIX_PATH=${installed} -DCMAKE_DISABLE_FIND_PACKAGE_assimp=ON
+                  RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(code EQUAL 0 OR NOT out MATCHES "dqkit::import needs Assimp")
+    message(FATAL_ERROR "requiring dqkit::import without Assimp: expected the package's reason, got (${code}):\n${out}")
+  endif()
+endif()
+
 # Moved: nothing may point to the old place.
 file(MAKE_DIRECTORY ${WORK_DIR}/elsewhere)
 file(RENAME ${installed} ${moved})

@@ -36,7 +36,7 @@ constexpr std::size_t parameter_count(DofType t) noexcept {
 struct Dof {
   int joint = 0;                    ///< runtime joint index
   DofType type = DofType::revolute;
-  Vec3<double> axis{1, 0, 0};       ///< unit axis in the joint's frame (revolute, prismatic; normalized by build)
+  Vec3<double> axis{1, 0, 0};       ///< axis in the joint's frame (revolute, prismatic): any non-zero length, normalized by build
   std::string name;
 };
 
@@ -206,8 +206,11 @@ void local_transforms(const KinematicModel& model, std::span<const T> q, std::sp
 }
 
 /// Model-space transforms of every joint for parameters q (forward kinematics of the model).
+/// Preconditions: as local_transforms (checked here too: a handler that returns leaves world as it was).
 template <class X, class T>
 void model_transforms(const KinematicModel& model, std::span<const T> q, std::span<X> world) {
+  DQ_PRECONDITION(q.size() == model.parameters() && world.size() == model.skeleton().size(),
+                  "model_transforms needs model.parameters() values and one output per joint");
   local_transforms<X, T>(model, q, world);
   const auto parents = model.skeleton().parents();
   for (std::size_t j = 0; j < world.size(); ++j)

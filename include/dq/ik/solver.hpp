@@ -24,7 +24,13 @@ enum class TaskKind {
   point_on_line,  ///< a point of the effector onto a line (3 rows, rank 2)
 };
 
-/// One goal for one effector joint.
+/// Priority levels a solve may have (IkTask::priority 0 to 3), and tasks per solve.
+inline constexpr int kIkPriorityLevels = 4;
+inline constexpr std::size_t kIkMaxTasks = 64;
+
+/// One goal for one effector joint. Targets must be unit dual quaternions to 1e-6 (data read as
+/// float is accepted) and are normalized by the solve; axes and directions may have any non-zero
+/// length.
 struct IkTask {
   TaskKind kind = TaskKind::pose;
   int joint = -1;                   ///< the effector's runtime joint index
@@ -33,7 +39,7 @@ struct IkTask {
   Vec3<double> axis{0, 0, 1};       ///< aim: the local axis; point_on_line: the line's direction (world)
   Vec3<double> location{};          ///< aim: the point to look at; point_on_line: a point of the line
   double weight = 1;                ///< relative weight within its priority level
-  int priority = 0;                 ///< 0 first; level k is solved in the null space of levels < k
+  int priority = 0;                 ///< 0 first (to kIkPriorityLevels − 1); level k is solved in the null space of levels < k
 
   static IkTask reach(int joint, const Vec3<double>& target, const Vec3<double>& point = {}) {
     IkTask t;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <type_traits>
 #include <ranges>
 #include <span>
@@ -14,15 +15,35 @@
 
 namespace dq {
 
-/// Screw linear interpolation a · (a⁻¹ b)^t between unit dual quaternions: the screw motion from
-/// a (t = 0) to b (t = 1) at constant angular and linear speed. Shortest by default (the sign of
-/// a⁻¹ b is chosen with w ≥ 0); Path::longest turns the other way round the same screw axis.
-/// Defined for every pair of unit inputs: identical rotations and pure translations give the
-/// straight line, exactly. When the rotations are exactly π apart both ways are equally short:
-/// the sign of b as given decides, and `report->ambiguous` is set. Never NaN for finite input.
+namespace detail {
+/// q itself if it is a unit dual quaternion to rounding (|q_r|² within 4 ε of 1, q_r · q_d within
+/// 4 ε of its size), else q.normalized(): inputs that drifted (read from files, composed in
+/// float) become the rigid transforms they stand for, and unit ones keep their bits.
 template <class T>
-DualQuaternion<T> sclerp(const DualQuaternion<T>& a, const DualQuaternion<T>& b, const std::type_identity_t<T>& t,
+DualQuaternion<T> unit_to_rounding(const DualQuaternion<T>& q) {
+  using std::abs;
+  using std::sqrt;
+  using R = real_t<T>;
+  const R e = R(4) * std::numeric_limits<R>::epsilon();
+  const R rr = value_of(dot(q.real, q.real)), rd = value_of(dot(q.real, q.dual)), dd = value_of(dot(q.dual, q.dual));
+  if (abs(rr - R(1)) <= e && abs(rd) <= e * (R(1) + sqrt(dd))) [[likely]]
+    return q;
+  return q.normalized();
+}
+}  // namespace detail
+
+/// Screw linear interpolation a · (a⁻¹ b)^t between rigid transforms: the screw motion from a
+/// (t = 0) to b (t = 1) at constant angular and linear speed. Shortest by default (the sign of
+/// a⁻¹ b is chosen with w ≥ 0); Path::longest turns the other way round the same screw axis.
+/// Inputs that are not unit are normalized first (as slerp's are; a zero real part reads as the
+/// identity, as in normalized()). Defined for every pair: identical rotations and pure
+/// translations give the straight line, exactly. When the rotations are exactly π apart both ways
+/// are equally short: the sign of b as given decides, and `report->ambiguous` is set. Never NaN
+/// for finite input.
+template <class T>
+DualQuaternion<T> sclerp(const DualQuaternion<T>& a_in, const DualQuaternion<T>& b_in, const std::type_identity_t<T>& t,
                          Path path = Path::shortest, InterpolationReport* report = nullptr) {
+  const DualQuaternion<T> a = detail::unit_to_rounding(a_in), b = detail::unit_to_rounding(b_in);
   DualQuaternion<T> d = a.conjugate() * b;  // a⁻¹ b for unit a
   d = detail::align_sign(d, d.real.w, path, report);
   // Renormalized: with translations far larger than the result's, the product cancels and its

@@ -139,7 +139,9 @@ inline std::pair<float, float> slerp_weights(float chord, float opposite_chord, 
 template <class T>
 Quaternion<T> slerp_shortest_values(const Quaternion<T>& a, const Quaternion<T>& b, const T& t) {
   using std::sqrt;
-  if (t == T(1)) return b;  // the endpoint exactly (a needs no test: its weights are then 1 and 0)
+  // The endpoint exactly, unless a is NaN: NaN in, NaN out (a needs no test at t = 0: its
+  // weights are then 1 and 0, and b's NaN reaches the sum).
+  if (t == T(1)) return dot(a, a) == dot(a, a) ? b : a;
   const Quaternion<T> difference = a - b;
   const auto [wa, wb] = slerp_weights(sqrt(dot(difference, difference)), sqrt(dot(a + b, a + b)), t);
   return a * wa + b * wb;

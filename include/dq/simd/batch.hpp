@@ -79,7 +79,8 @@ struct QuaternionRows {
 /// case (equal, nearly opposite and opposite endpoints give unit results), as dq::slerp. Computed
 /// branch-free on the vector lanes with polynomials accurate to float precision on the range
 /// t ∈ [0, 1] covers; other t (extrapolation) run dq::slerp itself. Not bit-identical to
-/// dq::slerp (a different evaluation of the same function): within a few ulps (tested).
+/// dq::slerp (a different evaluation of the same function): within a few ulps (tested), on the
+/// same arc at exact ties (a · b = 0) for inputs unit to rounding.
 void slerp(QuaternionRows<const float> a, QuaternionRows<const float> b, float t, QuaternionRows<float> out, std::size_t n);
 
 /// out[i] = dq::dlb(a[i], b[i], t) for i < n, bit for bit for every input: dual quaternion linear

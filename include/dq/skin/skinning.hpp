@@ -64,7 +64,8 @@ struct SkinningJob {
   std::size_t count = 0;
 
   /// Says why the job cannot run: no skin or palette, a palette of another size, a range past
-  /// the skin, output spans too short, CoR without centres.
+  /// the skin, output spans too short, normals or tangents with one or two of their three spans,
+  /// output spans that overlap in the range, CoR without centres.
   Status validate() const;
   /// Runs on the calling thread. Precondition: validate() succeeds (checked).
   void run() const;
