@@ -96,7 +96,7 @@ TEST(ForwardKinematics, DualQuaternionsEqualMatrices) {
     biped.pose(q, local);
     for (std::size_t j = 0; j < local.size(); ++j) mlocal[j] = to_mat4(local[j]);
     local_to_model<DualQuaternion<double>>(biped.skeleton(), local, model);
-    local_to_model<Mat4<double>>(biped.skeleton(), mlocal, mmodel);
+    local_to_model(biped.skeleton(), mlocal, mmodel);  // the container overload: the type deduced
     for (std::size_t j = 0; j < model.size(); ++j) EXPECT_LE(max_abs_diff(to_mat4(model[j]), mmodel[j]), 1e-14);
   }
 }
@@ -223,6 +223,11 @@ TEST(Animation, SamplingModesClampAndLoop) {
     sample<double>(anim, 1.5 + 0.5 * 3, mode, WrapMode::loop, out);  // period 1.5 s: frame 0 again
     EXPECT_TRUE(approx_equal(out[0], anim.locals[0], 1e-12, SignPolicy::same_rotation));
   }
+  // The container overload deduces the scalar type and samples the same.
+  std::vector<DualQuaternion<double>> deduced(1);
+  sample(anim, 0.8, Interpolation::screw, WrapMode::clamp, deduced);
+  sample<double>(anim, 0.8, Interpolation::screw, WrapMode::clamp, out);
+  EXPECT_EQ(deduced[0], out[0]);
   // Times at and beyond the ends of double: ±∞ clamps like any time past an end, also where
   // time ÷ frame_time overflows; NaN, and ∞ in a loop (no phase), give NaN, never frame 0.
   const double inf = std::numeric_limits<double>::infinity();

@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <limits>
+#include <ranges>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include "dq/util/assert.hpp"
@@ -81,6 +83,15 @@ void sample(const Animation& anim, double time, Interpolation mode, WrapMode wra
     out[j] = (u == T(0) || f0 == f1) ? a[j].template cast<T>()
                                       : interpolate(a[j].template cast<T>(), b[j].template cast<T>(), u, mode);
   }
+}
+/// sample into any contiguous container of dual quaternions (std::vector, std::array): the scalar
+/// type deduced, not named.
+template <std::ranges::contiguous_range Out>
+  requires detail::is_dual_quaternion_v<std::ranges::range_value_t<Out>> &&
+           (!std::is_const_v<std::remove_reference_t<std::ranges::range_reference_t<Out>>>)
+void sample(const Animation& anim, double time, Interpolation mode, WrapMode wrap, Out&& out) {
+  using Q = std::ranges::range_value_t<Out>;
+  sample<typename Q::scalar_type>(anim, time, mode, wrap, std::span<Q>(std::ranges::data(out), std::ranges::size(out)));
 }
 
 }  // namespace dq

@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <concepts>
 #include <limits>
+#include <ranges>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -44,6 +46,16 @@ void local_to_model(std::span<const int> parents, std::span<const X> local, std:
 template <class X>
 void local_to_model(const Skeleton& skeleton, std::span<const X> local, std::span<X> model) {
   local_to_model<X>(skeleton.parents(), local, model);
+}
+/// local_to_model over any contiguous containers of one transform type (std::vector, std::array):
+/// the type deduced, not named.
+template <std::ranges::contiguous_range Local, std::ranges::contiguous_range Model>
+  requires std::same_as<std::remove_cv_t<std::ranges::range_value_t<Local>>, std::ranges::range_value_t<Model>> &&
+           (!std::is_const_v<std::remove_reference_t<std::ranges::range_reference_t<Model>>>)
+void local_to_model(const Skeleton& skeleton, const Local& local, Model&& model) {
+  using X = std::ranges::range_value_t<Model>;
+  local_to_model<X>(skeleton.parents(), std::span<const X>(std::ranges::data(local), std::ranges::size(local)),
+                    std::span<X>(std::ranges::data(model), std::ranges::size(model)));
 }
 /// Recomputes only the subtree of joint j (after its local transform, or its parent's model
 /// transform, changed).

@@ -17,16 +17,17 @@ namespace dq {
 
 namespace detail {
 /// q itself if it is a unit dual quaternion to rounding (|q_r|² within 4 ε of 1, q_r · q_d within
-/// 4 ε of its size), else q.normalized(): inputs that drifted (read from files, composed in
-/// float) become the rigid transforms they stand for, and unit ones keep their bits.
+/// 4 ε of the dual part's size, bounded by its 1-norm), else q.normalized(): inputs that drifted
+/// (read from files, composed in float) become the rigid transforms they stand for, and unit ones
+/// keep their bits.
 template <class T>
 DualQuaternion<T> unit_to_rounding(const DualQuaternion<T>& q) {
   using std::abs;
-  using std::sqrt;
   using R = real_t<T>;
   const R e = R(4) * std::numeric_limits<R>::epsilon();
-  const R rr = value_of(dot(q.real, q.real)), rd = value_of(dot(q.real, q.dual)), dd = value_of(dot(q.dual, q.dual));
-  if (abs(rr - R(1)) <= e && abs(rd) <= e * (R(1) + sqrt(dd))) [[likely]]
+  const R rr = value_of(dot(q.real, q.real)), rd = value_of(dot(q.real, q.dual));
+  const R size = abs(value_of(q.dual.w)) + abs(value_of(q.dual.x)) + abs(value_of(q.dual.y)) + abs(value_of(q.dual.z));
+  if (abs(rr - R(1)) <= e && abs(rd) <= e * (R(1) + size)) [[likely]]
     return q;
   return q.normalized();
 }
