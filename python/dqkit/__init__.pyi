@@ -126,7 +126,7 @@ class BvhKinematics:
 
 
 class Dof:
-    """A degree of freedom of a joint (revolute/prismatic about a unit axis, ball: 3, free: 6 parameters)."""
+    """A degree of freedom of a joint (revolute/prismatic about an axis of any non-zero length, normalized by KinematicModel.build; ball: 3, free: 6 parameters)."""
     def __init__(self: Dof, joint: int, type: DofType, axis: numpy.ndarray = ..., name: str = ...) -> None: ...
     @property
     def joint(self) -> int: ...

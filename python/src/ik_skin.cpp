@@ -28,7 +28,7 @@ void bind_ik_types(py::module_& m) {
   py::enum_<dq::DofType>(m, "DofType")
       .value("revolute", dq::DofType::revolute).value("prismatic", dq::DofType::prismatic)
       .value("ball", dq::DofType::ball).value("free", dq::DofType::free);
-  py::class_<dq::Dof>(m, "Dof", "A degree of freedom of a joint (revolute/prismatic about a unit axis, ball: 3, free: 6 parameters).")
+  py::class_<dq::Dof>(m, "Dof", "A degree of freedom of a joint (revolute/prismatic about an axis of any non-zero length, normalized by KinematicModel.build; ball: 3, free: 6 parameters).")
       .def(py::init([](int joint, dq::DofType type, const Vd& axis, std::string name) { return dq::Dof{joint, type, axis, std::move(name)}; }),
            py::arg("joint"), py::arg("type"), py::arg("axis") = Vd{1, 0, 0}, py::arg("name") = "")
       .def_readwrite("joint", &dq::Dof::joint).def_readwrite("type", &dq::Dof::type)
