@@ -113,6 +113,23 @@ TEST(Simd, BatchForwardKinematicsEqualsTheJobBitForBit) {
   });
 }
 
+/// simd::slerp over component arrays made from `a` and `b`, its results as quaternions.
+std::vector<Quaternion<float>> batch_slerp(const std::vector<Quaternion<float>>& a, const std::vector<Quaternion<float>>& b, float t) {
+  const std::size_t n = a.size();
+  std::vector<float> in[8], out[4];
+  for (auto& v : in) v.resize(n);
+  for (auto& v : out) v.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    in[0][i] = a[i].w, in[1][i] = a[i].x, in[2][i] = a[i].y, in[3][i] = a[i].z;
+    in[4][i] = b[i].w, in[5][i] = b[i].x, in[6][i] = b[i].y, in[7][i] = b[i].z;
+  }
+  simd::slerp({in[0].data(), in[1].data(), in[2].data(), in[3].data()}, {in[4].data(), in[5].data(), in[6].data(), in[7].data()}, t,
+              {out[0].data(), out[1].data(), out[2].data(), out[3].data()}, n);
+  std::vector<Quaternion<float>> q(n);
+  for (std::size_t i = 0; i < n; ++i) q[i] = {out[0][i], out[1][i], out[2][i], out[3][i]};
+  return q;
+}
+
 TEST(Simd, SlerpOverArraysHasNoFailureCaseAndFloatAccuracy) {
   // Random pairs plus the thesis' failure cases: equal endpoints, a few ulps apart, exactly and
   // nearly opposite, off the unit sphere. Reference: dq::slerp in long double. Bound: 16 float
@@ -127,21 +144,12 @@ TEST(Simd, SlerpOverArraysHasNoFailureCaseAndFloatAccuracy) {
     a.push_back(q);
     b.push_back(other);
   }
-  const std::size_t n = a.size();
-  std::vector<float> in[8], out[4];
-  for (auto& v : in) v.resize(n);
-  for (auto& v : out) v.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    in[0][i] = a[i].w, in[1][i] = a[i].x, in[2][i] = a[i].y, in[3][i] = a[i].z;
-    in[4][i] = b[i].w, in[5][i] = b[i].x, in[6][i] = b[i].y, in[7][i] = b[i].z;
-  }
   for (const float t : {0.0f, 0.3f, 0.5f, 1.0f, 1.5f}) {
     for_each_target([&](Target) {
-      simd::slerp({in[0].data(), in[1].data(), in[2].data(), in[3].data()}, {in[4].data(), in[5].data(), in[6].data(), in[7].data()}, t,
-                  {out[0].data(), out[1].data(), out[2].data(), out[3].data()}, n);
-      for (std::size_t i = 0; i < n; ++i) {
+      const std::vector<Quaternion<float>> out = batch_slerp(a, b, t);
+      for (std::size_t i = 0; i < a.size(); ++i) {
         const Quaternion<long double> want = slerp(a[i].cast<long double>(), b[i].cast<long double>(), static_cast<long double>(t));
-        const Quaternion<long double> got = Quaternion<float>(out[0][i], out[1][i], out[2][i], out[3][i]).cast<long double>();
+        const Quaternion<long double> got = out[i].cast<long double>();
         const long double g[4] = {got.w, got.x, got.y, got.z}, ref[4] = {want.w, want.x, want.y, want.z};
         for (int k = 0; k < 4; ++k)
           ASSERT_LE(std::abs(g[k] - ref[k]), 16 * std::numeric_limits<float>::epsilon()) << "t " << t << " pair " << i << " component " << k;
@@ -166,21 +174,12 @@ TEST(Simd, SlerpTakesDqSlerpsArcAtExactTies) {
       ASSERT_EQ(dot(a.back(), b.back()), 0.0f);
     }
   }
-  const std::size_t n = a.size();
-  std::vector<float> in[8], out[4];
-  for (auto& v : in) v.resize(n);
-  for (auto& v : out) v.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    in[0][i] = a[i].w, in[1][i] = a[i].x, in[2][i] = a[i].y, in[3][i] = a[i].z;
-    in[4][i] = b[i].w, in[5][i] = b[i].x, in[6][i] = b[i].y, in[7][i] = b[i].z;
-  }
   for (const float t : {0.3f, 0.7f}) {
     for_each_target([&](Target) {
-      simd::slerp({in[0].data(), in[1].data(), in[2].data(), in[3].data()}, {in[4].data(), in[5].data(), in[6].data(), in[7].data()}, t,
-                  {out[0].data(), out[1].data(), out[2].data(), out[3].data()}, n);
-      for (std::size_t i = 0; i < n; ++i) {
-        const Quaternion<float> want = slerp(a[i], b[i], t), got(out[0][i], out[1][i], out[2][i], out[3][i]);
-        ASSERT_LE(test::max_abs_diff(got, want), 16 * std::numeric_limits<float>::epsilon()) << "t " << t << " pair " << i;
+      const std::vector<Quaternion<float>> out = batch_slerp(a, b, t);
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        const Quaternion<float> want = slerp(a[i], b[i], t);
+        ASSERT_LE(test::max_abs_diff(out[i], want), 16 * std::numeric_limits<float>::epsilon()) << "t " << t << " pair " << i;
       }
     });
   }
