@@ -99,6 +99,22 @@ TYPED_TEST(EulerTyped, GimbalLockGivesAValidTripleWithThirdAngleZero) {
         }
 }
 
+TEST(Euler, ARigidTransformsAnglesAreItsRotations) {
+  // to_euler of a dual quaternion reads its rotation: angles built into a transform with a
+  // translation come back (away from gimbal lock), and the translation does not enter.
+  const double a = 0.4, b = -0.7, c = 1.9;
+  for (const EulerOrder order : {EulerOrder::XYZ, EulerOrder::ZYX, EulerOrder::ZXZ})
+    for (const EulerFrame frame : {EulerFrame::intrinsic, EulerFrame::extrinsic}) {
+      const double mid = order == EulerOrder::ZXZ ? -b : b;  // proper Euler: the middle angle in [0, π]
+      const auto q = DualQuaternion<double>::from_rotation_translation(from_euler(order, frame, a, mid, c), {5, -3, 2});
+      const EulerExtraction<double> e = to_euler(q, order, frame);
+      EXPECT_FALSE(e.singular);
+      EXPECT_NEAR(e.angles.a, a, 1e-14);
+      EXPECT_NEAR(e.angles.b, mid, 1e-14);
+      EXPECT_NEAR(e.angles.c, c, 1e-14);
+    }
+}
+
 TEST(Euler, ThesisGimbalLockDerivation) {
   // Arends §2: Rx(φ) Ry(π/2) Rz(ψ) depends only on φ + ψ, a lost degree of freedom.
   const double half_pi = pi_v<double> / 2;

@@ -473,6 +473,23 @@ DualQuaternion<Dual<T>> lift(const DualQuaternion<T>& q) {
   return {l(q.real), l(q.dual)};
 }
 
+TEST(Sclerp, DerivativesOffTheUnitSurfaceAreThoseOfTheNormalizedInput) {
+  // a(s) = (1 + s) A with A unit: every a(s) is the transform A, so d/ds sclerp(a(s), B, t) = 0.
+  // At s = 0 the value is unit; the derivative points off the unit surface and must still be
+  // normalized away (a check of the value alone would keep it and give a non-zero derivative).
+  Random rng(229);
+  for (int n = 0; n < 100; ++n) {
+    const DualQuaternion<double> a = rng.rigid<double>(), b = rng.rigid<double>();
+    const auto scaled = [](const Quaternion<double>& q) {
+      return Quaternion<Dual<double>>(Dual<double>(q.w, q.w), Dual<double>(q.x, q.x), Dual<double>(q.y, q.y), Dual<double>(q.z, q.z));
+    };
+    const DualQuaternion<Dual<double>> as{scaled(a.real), scaled(a.dual)};
+    const DualQuaternion<Dual<double>> m = sclerp(as, lift(b), Dual<double>(rng.uniform(0.0, 1.0)));
+    for (const Dual<double>& c : {m.real.w, m.real.x, m.real.y, m.real.z, m.dual.w, m.dual.x, m.dual.y, m.dual.z})
+      EXPECT_NEAR(c.dual, 0.0, 1e-12) << n;
+  }
+}
+
 TEST(Sclerp, DerivativeInTIsTheScrewVelocity) {
   // d/dt a·exp(tξ) = a·exp(tξ)·ξ with ξ = log(a⁻¹ b), computed by running sclerp over Dual<double>.
   Random rng(223);

@@ -1,6 +1,8 @@
 // Matrices: dual quaternion ↔ 3x4/4x4, and repairing drifted rotation blocks.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "support.hpp"
 
 namespace {
@@ -63,6 +65,15 @@ TEST(Matrix, OrthonormalizationRepairsDrift) {
   // A rotation is its own polar factor.
   const Mat3<double> r = Quaternion<double>::from_axis_angle(Vec3<double>{1, 2, 3}, 2.0).to_matrix();
   EXPECT_LE(max_abs_diff(orthonormalize_polar(r), r), 1e-15);
+}
+
+TEST(Matrix, FromMatrixOfARotationIsItsQuaternion) {
+  // A quarter turn about z as a 3x3 matrix, written out: (cos π/4, 0, 0, sin π/4), up to sign.
+  const Mat3<double> m = Mat3<double>::from_rows(0, -1, 0, 1, 0, 0, 0, 0, 1);
+  const Quaternion<double> q = from_matrix(m);
+  EXPECT_NEAR(std::abs(q.w), std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(q.z * (q.w < 0 ? -1 : 1), std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(std::abs(q.x) + std::abs(q.y), 0.0, 1e-15);
 }
 
 TEST(Matrix, RowsAndColumnMajorStorage) {

@@ -19,6 +19,7 @@ namespace {
 
 constexpr int kMaxLevels = kIkPriorityLevels;
 constexpr std::size_t kMaxTasks = kIkMaxTasks;
+static_assert(kMaxLevels == 4 && kMaxTasks == 64, "the invalid_input messages quote these limits");
 constexpr double kTargetUnitTolerance = 1e-6;
 /// The first step's damping grows with the error at the start: λ₀ = initial_damping + kDampingPerCost ×
 /// Σ w |r|² (as Sugihara's λ = E + w̄, IEEE T-RO 2011): heavy far from the target, where the
@@ -423,7 +424,7 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> requested, std::span<do
     t.target = c.normalized();
     if (t.kind == TaskKind::aim || t.kind == TaskKind::point_on_line) {
       const double length = norm(t.axis);
-      if (!(length > 0)) return invalid("a task's axis has no direction (zero length)");
+      if (!(length > 0) || !std::isfinite(length)) return invalid("a task's axis has no direction (zero or infinite length)");
       t.axis = t.axis / length;
     }
     ws.row_of.push_back(rows);

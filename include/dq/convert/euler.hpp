@@ -14,6 +14,7 @@
 #include <cmath>
 #include <string_view>
 
+#include "dq/core/dual_quaternion.hpp"
 #include "dq/core/quaternion.hpp"
 
 namespace dq {
@@ -204,6 +205,11 @@ EulerExtraction<T> to_euler(const Quaternion<T>& q, EulerOrder order, EulerFrame
   third = detail::wrap_angle(third);
   out.angles = extrinsic ? EulerAngles<T>{third, mid, first} : EulerAngles<T>{first, mid, third};
   return out;
+}
+/// The Euler angles of a rigid transform's rotation (its real part); the translation is not used.
+template <class T>
+EulerExtraction<T> to_euler(const DualQuaternion<T>& q, EulerOrder order, EulerFrame frame) {
+  return to_euler(q.real, order, frame);
 }
 
 }  // namespace dq

@@ -57,6 +57,13 @@ DualQuaternion<T> from_matrix(const Mat<T, R, 4>& m) {
   return q;
 }
 
+/// The unit quaternion of a 3x3 rotation matrix (Quaternion::from_matrix), named as the rigid
+/// transforms' from_matrix.
+template <class T>
+Quaternion<T> from_matrix(const Mat3<T>& m) {
+  return Quaternion<T>::from_matrix(m);
+}
+
 /// Gram–Schmidt on the columns (x kept, y made orthogonal to x, z = x × y): cheap, but biased
 /// towards the first column.
 template <class T>

@@ -266,7 +266,7 @@ namespace detail {
 /// real part (AVX's vinsertf128, from memory or a register), not as one 32-byte copy of its
 /// memory: in a chain x = a · x that copy read a dual quaternion just stored as two 16-byte
 /// halves, which a load cannot take from the stores in flight (bench_core's
-/// PrependChainDualQuaternion: 9.4–10.8 against 6.0 µs per 1024 links, GLM's 7.4). (Joined with
+/// PrependChainDualQuaternion: 9.4–10.8 against 6.0–6.6 µs per 1024 links, GLM's 7.3–7.6). (Joined with
 /// a generic two-vector shuffle instead, GCC 12 loads both halves apart: one instruction more.)
 [[gnu::always_inline]] inline DualQuaternion<float> dual_product_lanes(const DualQuaternion<float>& a,
                                                                        const DualQuaternion<float>& b) noexcept {

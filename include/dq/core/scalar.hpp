@@ -37,8 +37,8 @@
 
 /// 1 where DualQuaternion<float>'s product runs in AVX's eight lanes (detail::dual_product_lanes):
 /// with vector extensions, where the build targets AVX. In -mavx2 -mfma builds that took the
-/// product from 43 to 33 instructions and from 1.27–1.42 × GLM `dualquat`'s time to a median of
-/// 0.90 (docs/performance.md). Bit-identical to the four-lane form, as DQKIT_VEC3_LANES' two
+/// product from 43 to 34 instructions and from 1.27–1.42 × GLM `dualquat`'s time to 0.87–0.94
+/// (docs/performance.md). Bit-identical to the four-lane form, as DQKIT_VEC3_LANES' two
 /// bodies are (docs/design.md, on the one-definition rule); define it to 0 to have one body everywhere.
 #if !defined(DQKIT_PRODUCT_EIGHT_LANES)
 #if DQKIT_VECTOR_EXTENSIONS && defined(__AVX__)

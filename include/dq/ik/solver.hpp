@@ -115,8 +115,10 @@ class BasicIkSolver {
 
   /// Solves for q (in: the initial pose; out: the solution, always within the limits). `rest`
   /// is the secondary objective's pose (empty: the initial pose). Invalid input (q or rest of the
-  /// wrong size, a NaN, a non-unit target, an effector that is not a joint, more rows than
-  /// options.max_rows) gives IkStatus::invalid_input and leaves q untouched. Allocates nothing.
+  /// wrong size, a NaN, a target further than 1e-6 from unit, an axis of zero or infinite length,
+  /// an effector that is not a joint, a priority beyond kIkPriorityLevels, more than kIkMaxTasks
+  /// tasks or more rows than options.max_rows) gives IkStatus::invalid_input and leaves q
+  /// untouched; targets and axes within those bounds are normalized. Allocates nothing.
   IkResult solve(std::span<const IkTask> tasks, std::span<double> q, std::span<const double> rest = {});
 
   /// Restricts later solves to some parameters (a flag per parameter, non-zero: may move); the

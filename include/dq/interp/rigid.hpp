@@ -16,14 +16,17 @@
 namespace dq {
 
 namespace detail {
-/// q itself if it is a unit dual quaternion to rounding (|q_r|² within 4 ε of 1, q_r · q_d within
-/// 4 ε of the dual part's size, bounded by its 1-norm), else q.normalized(): inputs that drifted
-/// (read from files, composed in float) become the rigid transforms they stand for, and unit ones
-/// keep their bits.
+/// For plain values, q itself if it is a unit dual quaternion to rounding (|q_r|² within 4 ε of 1,
+/// q_r · q_d within 4 ε of the dual part's size, bounded by its 1-norm), else q.normalized():
+/// inputs that drifted (read from files, composed in float) become the rigid transforms they
+/// stand for, and ones within 4 ε keep their bits (the products of a few unit transforms mostly
+/// are). With derivative parts, always q.normalized(): derivatives off the unit surface are then
+/// those of the normalized input, whatever the value's rounding.
 template <class T>
 DualQuaternion<T> unit_to_rounding(const DualQuaternion<T>& q) {
   using std::abs;
   using R = real_t<T>;
+  if constexpr (has_derivatives_v<T>) return q.normalized();
   const R e = R(4) * std::numeric_limits<R>::epsilon();
   const R rr = value_of(dot(q.real, q.real)), rd = value_of(dot(q.real, q.dual));
   const R size = abs(value_of(q.dual.w)) + abs(value_of(q.dual.x)) + abs(value_of(q.dual.y)) + abs(value_of(q.dual.z));
