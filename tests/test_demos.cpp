@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <string>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "cli.hpp"
 #include "window_pictures.hpp"
@@ -68,6 +70,32 @@ TEST(Demos, PuzzleRejectsAnUnreachableDepth) {
                               (fs::temp_directory_path() / "dqkit_test_demos_unsolvable").string() +
                               " --seed 3 --scramble 12 --solve --max-depth 2 2> /dev/null > /dev/null";
   EXPECT_NE(std::system(command.c_str()), 0);
+}
+
+/// Every point of the dark label strokes of `views` lies inside its own viewport horizontally.
+void expect_labels_inside(const std::vector<demo::View>& views, const char* what) {
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    const demo::View& v = views[i];
+    for (const render::Lines& lines : v.scene.lines) {
+      if (!(lines.color.r < 0.2f && lines.color.g < 0.2f && lines.color.b < 0.2f)) continue;  // the labels' near-black
+      for (const Vec3<float>& p : lines.points) {
+        const render::Projected q = render::project(v.camera, v.viewport.width, v.viewport.height, {p.x, p.y, p.z});
+        ASSERT_GE(q.x, 0) << what << " view " << i;
+        ASSERT_LE(q.x, v.viewport.width) << what << " view " << i << ": a label runs into the next view";
+      }
+    }
+  }
+}
+
+TEST(Demos, LabelsFitNarrowViews) {
+  // Text sized by the view's height alone ran past its view's right edge in narrow views
+  // (viewports at 300 x 1200, the biped at 800 x 800): it is made smaller there instead.
+  const std::array<double, demo::method_count> ns{12.5, 30.25, 45.5, 99.75};
+  for (const auto& [w, h] : {std::pair{300, 1200}, std::pair{500, 500}, std::pair{1600, 200}})
+    expect_labels_inside(demo::viewports_views(demo::ViewportsState{}, &ns, w, h), "viewports");
+  demo::BipedDemo biped;
+  biped.step(0.0);
+  for (const auto& [w, h] : {std::pair{800, 800}, std::pair{400, 1000}, std::pair{1000, 600}}) expect_labels_inside(biped.views(w, h), "biped");
 }
 
 TEST(Demos, ViewportsMoveTheVectorAsTheThesis) {

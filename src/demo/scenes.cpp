@@ -24,12 +24,17 @@ Vec3<double> overlay_point(const render::Camera& c, double aspect, double u, dou
   return c.target + right * (u * half * aspect) + up * (v * half);
 }
 
-/// Text on the overlay plane, its baseline starting at (u, v), `height` in NDC units.
+/// Text on the overlay plane, its baseline starting at (u, v), `height` in NDC units, made
+/// smaller where it would run past u = 0.95 (a narrow view: text sized by the view's height alone
+/// ran into the next view).
 void overlay_text(render::Lines& lines, const render::Camera& c, double aspect, std::string_view text, double u, double v,
                   double height) {
   const Vec3<double> origin = overlay_point(c, aspect, u, v);
   const Vec3<double> right = overlay_point(c, aspect, u + 1, v) - origin, up = overlay_point(c, aspect, u, v + 1) - origin;
-  add_text(lines.points, text, origin, right, up, height * norm(up));
+  double world_height = height * norm(up);
+  const double room = (0.95 - u) * norm(right), width = text_width(text, world_height);
+  if (width > room && width > 0) world_height *= room / width;
+  add_text(lines.points, text, origin, right, up, world_height);
 }
 
 render::Mesh slab(const DualQuaternion<double>& pose, render::Color color) {
