@@ -188,6 +188,20 @@ bool has_joint(const Skeleton& s, std::string_view part) {
   return false;
 }
 
+TEST(ImportTrust, MorphAnimationIsReportedNotSilentlyDropped) {
+  DQKIT_REQUIRE_MODELS();
+  // AnimatedMorphCube animates morph-target weights only: its meshes keep their base shape in
+  // dqkit, which says so (the clip alone, with its 127 frames, looked like motion).
+  const Expected<ImportedScene> s = import_scene(kModels / "glTF2/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf");
+  ASSERT_TRUE(s) << s.error().message;
+  bool warned = false;
+  for (const std::string& w : s->warnings) warned = warned || w.find("changes mesh shapes") != std::string::npos;
+  EXPECT_TRUE(warned);
+  const Expected<ImportedScene> skinned = import_scene(kModels / "glTF2/simple_skin/simple_skin.gltf");
+  ASSERT_TRUE(skinned) << skinned.error().message;
+  for (const std::string& w : skinned->warnings) EXPECT_EQ(w.find("changes mesh shapes"), std::string::npos) << w;
+}
+
 TEST(ImportTrust, OneBrokenSkinDoesNotFailTheFile) {
   DQKIT_REQUIRE_MODELS();
   // anim_test.x: a mesh whose bone names no node. Assimp loads it; the mesh is left out with a

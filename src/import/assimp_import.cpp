@@ -241,6 +241,9 @@ class SceneBuilder {
                    " frames at " + std::to_string(rate) + " Hz need more than the " + std::to_string(options_.result_limit_mb) + " MB allowed"};
     ImportedAnimation out;
     out.name = a.mName.C_Str();
+    if (a.mNumMorphMeshChannels > 0 || a.mNumMeshChannels > 0)
+      warn("animation '" + out.name + "' changes mesh shapes (" + std::to_string(a.mNumMorphMeshChannels + a.mNumMeshChannels) +
+           " morph or mesh channels); dqkit imports joint motion only, so the meshes keep their base shape");
     Animation& anim = out.animation;
     anim.frame_time = 1.0 / rate;
     anim.frame_count = frames;
