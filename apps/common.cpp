@@ -1,7 +1,10 @@
 #include "common.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #if defined(DQKIT_DEMO_WINDOW)
 #define GLFW_INCLUDE_NONE
@@ -21,13 +24,17 @@ void draw(render::Renderer& renderer, const std::vector<demo::View>& views) {
 }  // namespace
 
 void add_options(CLI::App& app, Options& o) {
-  app.add_flag("--headless", o.headless, "Render frames to PNG without a display (EGL), then exit");
+  CLI::Option* headless = app.add_flag("--headless", o.headless, "Render frames to PNG without a display (EGL), then exit");
   app.add_option("--frames", o.frames, "Frames to render headless")->check(CLI::Range(1, 100000));
   app.add_option("--out", o.out, "Directory for frame_0000.png ... (created)");
+  app.add_flag("--force", o.force, "Headless: replace the frames already in --out (those of a longer earlier run are removed)");
   app.add_option("--width", o.width, "Image width, pixels")->check(CLI::Range(16, 8192));
   app.add_option("--height", o.height, "Image height, pixels")->check(CLI::Range(16, 8192));
-  app.add_option("--quit-after", o.quit_after, "Window: close after this many frames (0: never)")->check(cli::whole_number_up_to(1u << 30));
-  app.add_option("--screenshot", o.screenshot, "Window: write the last picture drawn (without the ImGui panel) to this PNG on exit");
+  app.add_option("--quit-after", o.quit_after, "Window: close after this many frames (0: never)")
+      ->check(cli::whole_number_up_to(1u << 30))
+      ->excludes(headless);
+  app.add_option("--screenshot", o.screenshot, "Window: write the last picture drawn (without the ImGui panel) to this PNG on exit")
+      ->excludes(headless);
 }
 
 char32_t lower_case(char32_t c) { return c >= U'A' && c <= U'Z' ? c - U'A' + U'a' : c; }
@@ -74,6 +81,21 @@ int run_headless(const Options& o, const std::function<std::vector<demo::View>(i
     std::cerr << "error: cannot create " << o.out << ": " << ec.message() << "\n";
     return 1;
   }
+  // Frames of an earlier run: replaced only when asked, and then none of them left behind (a glob
+  // of frame_*.png would otherwise mix two runs).
+  std::vector<std::filesystem::path> earlier;
+  for (const auto& entry : std::filesystem::directory_iterator(o.out, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() == 14 && name.starts_with("frame_") && name.ends_with(".png") &&
+        std::all_of(name.begin() + 6, name.begin() + 10, [](char c) { return c >= '0' && c <= '9'; }))
+      earlier.push_back(entry.path());
+  }
+  if (!earlier.empty() && !o.force) {
+    std::cerr << "error: " << o.out.string() << " already holds frames of an earlier run (" << earlier.size()
+              << "); they are replaced only when asked (--force), or choose another --out\n";
+    return 1;
+  }
+  for (const auto& path : earlier) std::filesystem::remove(path, ec);
   for (int f = 0; f < o.frames; ++f) {
     draw(*renderer, views(f));
     char name[32];
@@ -83,7 +105,8 @@ int run_headless(const Options& o, const std::function<std::vector<demo::View>(i
       return 1;
     }
   }
-  std::cout << "wrote " << o.frames << " frames to " << (o.out / "frame_0000.png").string() << " ...\n";
+  std::cout << "wrote " << o.frames << (o.frames == 1 ? " frame to " : " frames to ") << (o.out / "frame_0000.png").string()
+            << (o.frames == 1 ? "\n" : " ...\n");
   return 0;
 }
 

@@ -22,9 +22,10 @@ struct Options {
   int width = 800, height = 600;
   int quit_after = 0;  ///< interactive: close after this many frames (0: never), for scripted tests
   std::filesystem::path screenshot;  ///< interactive: write the last image drawn (without ImGui) here on exit
+  bool force = false;                ///< headless: replace the frames of an earlier run in `out`
 };
 
-/// Adds --headless, --frames, --out, --width, --height, --quit-after, --screenshot.
+/// Adds --headless, --frames, --out, --force, --width, --height, --quit-after, --screenshot.
 void add_options(CLI::App& app, Options& options);
 
 /// Renders frames 0 … frames − 1 of `views(frame)` to out/frame_0000.png …; prints where they are.

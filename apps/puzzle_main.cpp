@@ -24,7 +24,8 @@ int main(int argc, char** argv) {
       ->check(cli::whole_number_up_to(1000000));
   app.add_flag("--solve", solve, "Append the solver's shortest solution (animated)");
   app.add_option("--max-depth", max_depth, "Longest solution the solver looks for")->check(CLI::Range(0, 40));
-  app.add_option("--export-x3d", x3d, "Write the state after all moves as X3D (each piece a Transform DEF=\"piece_NN\")");
+  const CLI::Option* export_x3d =
+      app.add_option("--export-x3d", x3d, "Write the state after all moves as X3D (each piece a Transform DEF=\"piece_NN\"), a .x3d file; replaced only with --force");
   CLI11_PARSE(app, argc, argv);
 
   demo::PuzzleScript script;
@@ -38,10 +39,14 @@ int main(int argc, char** argv) {
     script.moves = *solution;
     std::cout << "solution: " << solution->size() << " moves\n";
   }
-  if (!x3d.empty()) {
+  if (export_x3d->count() > 0) {
+    if (x3d.extension() != ".x3d" || x3d.filename() == ".x3d") {
+      std::cerr << "error: --export-x3d: '" << x3d.string() << "' must name a .x3d file (X3D's XML encoding; .wrl is VRML's)\n";
+      return 1;
+    }
     demo::Puzzle end = script.start;
     for (int piece : script.moves) end.move(piece);
-    if (const Status s = write_file_atomically(x3d, demo::to_x3d(end), Overwrite::allow); !s) {
+    if (const Status s = write_file_atomically(x3d, demo::to_x3d(end), o.force ? Overwrite::allow : Overwrite::refuse); !s) {
       std::cerr << "error: " << s.error().message << "\n";
       return 1;
     }

@@ -34,9 +34,11 @@ fs::path frame(const fs::path& dir, int f) {
 }
 
 TEST(Demos, PuzzleFramesShowTheScrambledAndTheSolvedState) {
-  const fs::path dir = run(DQKIT_PUZZLE, "--frames 3 --width 480 --height 360 --seed 3 --scramble 8 --solve --export-x3d " +
-                                             (fs::temp_directory_path() / "dqkit_test_demos.x3d").string(),
-                           "puzzle");
+  const fs::path x3d = fs::temp_directory_path() / "dqkit_test_demos.x3d";
+  fs::remove(x3d);  // an existing file is replaced only with --force
+  const fs::path dir = run(DQKIT_PUZZLE, "--frames 3 --width 480 --height 360 --seed 3 --scramble 8 --solve --export-x3d " + x3d.string(), "puzzle");
+  EXPECT_TRUE(fs::exists(x3d));
+  fs::remove(x3d);
   demo::Puzzle scrambled;
   scrambled.scramble(3, 8);
   ASSERT_FALSE(scrambled.solved());
@@ -96,6 +98,20 @@ TEST(Demos, LabelsFitNarrowViews) {
   demo::BipedDemo biped;
   biped.step(0.0);
   for (const auto& [w, h] : {std::pair{800, 800}, std::pair{400, 1000}, std::pair{1000, 600}}) expect_labels_inside(biped.views(w, h), "biped");
+}
+
+TEST(Demos, FramesOfAnEarlierRunAreReplacedOnlyWithForce) {
+  const fs::path dir = fs::temp_directory_path() / "dqkit_test_demos_force";
+  fs::remove_all(dir);
+  const std::string base = std::string(DQKIT_VIEWPORTS) + " --headless --width 64 --height 64 --out " + dir.string();
+  ASSERT_EQ(std::system((base + " --frames 4 > /dev/null").c_str()), 0);
+  EXPECT_NE(std::system((base + " --frames 2 > /dev/null 2>&1").c_str()), 0);  // refused: frames 0-3 are there
+  EXPECT_TRUE(fs::exists(frame(dir, 3)));
+  ASSERT_EQ(std::system((base + " --frames 2 --force > /dev/null").c_str()), 0);
+  EXPECT_TRUE(fs::exists(frame(dir, 1)));
+  EXPECT_FALSE(fs::exists(frame(dir, 2)));  // none of the earlier, longer run left behind
+  EXPECT_FALSE(fs::exists(frame(dir, 3)));
+  fs::remove_all(dir);
 }
 
 TEST(Demos, ViewportsMoveTheVectorAsTheThesis) {

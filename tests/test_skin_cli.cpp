@@ -95,6 +95,16 @@ TEST_F(SkinCli, RenderSequenceIsNumbered) {
   EXPECT_FALSE(fs::exists(dir_ / "seq.png"));
 }
 
+TEST_F(SkinCli, RenderSequenceStopsAtTheClipsEnd) {
+  // BCN_Epileptic.X's clip ends at 3.3 s: frames after it would all show its last pose.
+  const std::string out = (dir_ / "end.png").string();
+  const Outcome r = run("render " + model("X/BCN_Epileptic.X") + " --time 3 --until 5 --fps 10 --width 32 --height 32 --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("--until: the clip ends at 3.3 s; the sequence stops there (4 of 21 frames)"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "end_0003.png"));
+  EXPECT_FALSE(fs::exists(dir_ / "end_0004.png"));
+}
+
 TEST_F(SkinCli, ErrorsSayWhat) {
   Outcome r = run("render " + model("X/Testwuson.X") + " --out " + (dir_ / "x.jpg").string());
   EXPECT_EQ(r.code, 1);
@@ -120,6 +130,12 @@ TEST_F(SkinCli, ErrorsSayWhat) {
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("--until (1 s) is before --time (2 s)"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "z.png"));
+  r = run("render " + model("X/Testwuson.X") + " --fps 10 --out " + (dir_ / "f.png").string());  // one picture: --fps would be ignored
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("--fps requires --until"), std::string::npos) << r.err;
+  r = run("render " + model("X/Testwuson.X") + " --window --out " + (dir_ / "w.png").string());
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("--out excludes --window"), std::string::npos) << r.err;
   r = run("skin " + model("X/Testwuson.X") + " --import-timeout 0");  // the same validators as the other commands
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("--import-timeout: '0' is out of range (0, 86400]"), std::string::npos) << r.err;

@@ -3,6 +3,7 @@
 // frames the whole animation so that the frames of a sequence line up; or shown in a window, where
 // a drag turns the camera and the wheel moves it nearer or farther (render::orbit).
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <numbers>
 #include <optional>
@@ -55,8 +56,9 @@ int run_render(const RenderArgs& a) {
     for (std::size_t i = 0; i < count; ++i) times.push_back(a.model.time + static_cast<double>(i) / a.fps);
   }
   const std::string stem = a.output.substr(0, a.output.size() - 4);
+  const bool sequence = times.size() > 1;  // named NAME_0000.png ..., also if the clip's end shortens it
   auto name_of = [&](std::size_t i) {
-    if (times.size() == 1) return a.output;
+    if (!sequence) return a.output;
     char suffix[32];
     std::snprintf(suffix, sizeof suffix, "_%04zu.png", i);
     return stem + suffix;
@@ -78,6 +80,15 @@ int run_render(const RenderArgs& a) {
   render::Bounds bounds;
   const Animation* anim = m.scene.animations.empty() ? nullptr : &m.scene.animations[a.model.animation].animation;
   const std::size_t frames = anim ? std::max<std::size_t>(anim->frame_count, 1) : 1;
+  // Past the clip's end every frame would show its last pose: the sequence stops there.
+  const double clip_end = anim ? static_cast<double>(frames - 1) * anim->frame_time : 0.0;
+  if (a.until && *a.until > clip_end + 1e-9 && times.size() > 1) {
+    const std::size_t before = times.size();
+    while (times.size() > 1 && times.back() > clip_end + 1e-9) times.pop_back();
+    std::fprintf(stderr, "dqkit: warning: --until: the %s at %s s; the sequence stops there (%zu of %zu frames)\n",
+                 anim ? "clip ends" : "model has no animation: it is still", CLI::detail::to_string(anim ? clip_end : a.model.time).c_str(),
+                 times.size(), before);
+  }
   for (std::size_t f = 0; f < frames; ++f)
     for (SkinningMethod method : methods) {
       skin_at(anim ? static_cast<double>(f) * anim->frame_time : 0, method);
@@ -141,17 +152,19 @@ int run_render(const RenderArgs& a) {
 Runner define_render(CLI::App& c) {
   auto a = std::make_shared<RenderArgs>();
   add_skinned_model_options(c, a->model);
-  c.add_option("--until", a->until, "Last time of a frame sequence, written as OUT_0000.png, OUT_0001.png, ...")->check(finite_in(-1e9, 1e9));
-  c.add_option("--fps", a->fps, "Frames per second of a sequence")->check(finite_in(0, 1000));
+  CLI::Option* until = c.add_option("--until", a->until, "Last time of a frame sequence, written as OUT_0000.png, OUT_0001.png, ... (at most to the clip's end)")
+                          ->check(finite_in(-1e9, 1e9));
+  c.add_option("--fps", a->fps, "Frames per second of a sequence")->check(finite_in(0, 1000))->needs(until);
   c.add_option("--method", a->method, "lbs, dqs, cor, or all: the three side by side (LBS, DQS, CoR from the left)")
       ->check(CLI::IsMember({"lbs", "dqs", "cor", "all"}));
-  c.add_option("--out", a->output, "PNG file to write (required unless --window)")->check(file_name());
+  CLI::Option* out = c.add_option("--out", a->output, "PNG file to write (required unless --window)")->check(file_name());
   c.add_option("--width", a->width, "Image width in pixels (default 1200 for all, else 800)")->check(CLI::Range(1, 16384));
   c.add_option("--height", a->height, "Image height in pixels (default 400 for all, else 600)")->check(CLI::Range(1, 16384));
   c.add_option("--camera", a->camera, "Orbit camera 'yaw,pitch[,distance]', degrees (default 35,20 at the distance that frames the whole animation)");
   c.add_flag("--skeleton", a->skeleton, "Draw the bones as lines over the skin");
   c.add_flag("--force", a->force, "Replace the output files if they exist");
-  c.add_flag("--window", a->window, "Show the frames in a window, in a loop until it is closed or Escape (needs a display), instead of writing PNGs; drag to turn the camera, wheel to zoom");
+  c.add_flag("--window", a->window, "Show the frames in a window, in a loop until it is closed or Escape (needs a display), instead of writing PNGs; drag to turn the camera, wheel to zoom")
+      ->excludes(out);
   return [a] { return run_render(*a); };
 }
 
