@@ -2,6 +2,7 @@
 // result beside what the seed says (and where a seed is wrong, what is right).
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "dq/dq.hpp"
 
@@ -10,11 +11,25 @@ using namespace dq;
 namespace {
 
 void heading(const char* title) { std::printf("\n== %s\n", title); }
-void print(const char* label, const Vec3<double>& v) { std::printf("  %-44s (%.6f, %.6f, %.6f)\n", label, v.x, v.y, v.z); }
-void print(const char* label, const Quaternion<double>& q) {
-  std::printf("  %-44s (w %.6f, x %.6f, y %.6f, z %.6f)\n", label, q.w, q.x, q.y, q.z);
+/// The label padded to 44 columns, counted as UTF-8 code points (φ, ½, − take one column and two
+/// or three bytes: printf's %-44s counts bytes and misaligned the values after them), combining
+/// marks (U+0300–U+036F, as the bar of Q̄) taking none.
+std::string padded(const char* label) {
+  std::string s = label;
+  std::size_t columns = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const bool combining = c == 0xCC || (c == 0xCD && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) < 0xB0);
+    columns += (c & 0xC0) != 0x80 && !combining;
+  }
+  if (columns < 44) s.append(44 - columns, ' ');
+  return s;
 }
-void print(const char* label, double v) { std::printf("  %-44s %.12g\n", label, v); }
+void print(const char* label, const Vec3<double>& v) { std::printf("  %s (%.6f, %.6f, %.6f)\n", padded(label).c_str(), v.x, v.y, v.z); }
+void print(const char* label, const Quaternion<double>& q) {
+  std::printf("  %s (w %.6f, x %.6f, y %.6f, z %.6f)\n", padded(label).c_str(), q.w, q.x, q.y, q.z);
+}
+void print(const char* label, double v) { std::printf("  %s %.12g\n", padded(label).c_str(), v); }
 
 }  // namespace
 
@@ -41,7 +56,7 @@ int main() {
     print("the same as Q (1 + εp) Q̄ taken literally", q.transform_point_sandwich({1, 0, 0}));
     print("translation 2 q_d q_r*", q.translation());
     const Dual<double> n = q.norm();
-    std::printf("  %-44s %.3g + ε %.3g\n", "dual norm |Q| (unit: 1 + ε0)", n.real, n.dual);
+    std::printf("  %s %.3g + ε %.3g\n", padded("dual norm |Q| (unit: 1 + ε0)").c_str(), n.real, n.dual);
   }
 
   heading("Kenwright's SimpleTest: compose three transforms, compare with 4x4 matrices");
@@ -68,7 +83,7 @@ int main() {
     print("φ = 0.2, ψ = 0.5", a);
     print("φ = 0.6, ψ = 0.1 (same φ + ψ): the same", b);
     const EulerExtraction<double> e = to_euler(a, EulerOrder::XYZ, EulerFrame::intrinsic);
-    std::printf("  %-44s (%.6f, %.6f, %.6f), singular = %s\n", "extracted (third angle set to 0)", e.angles.a, e.angles.b, e.angles.c,
+    std::printf("  %s (%.6f, %.6f, %.6f), singular = %s\n", padded("extracted (third angle set to 0)").c_str(), e.angles.a, e.angles.b, e.angles.c,
                 e.singular ? "yes" : "no");
   }
 
@@ -88,7 +103,7 @@ int main() {
   {
     const VrmlTransform<double> node{{0, 1, 0}, pi_v<double> / 180, {1, 2, 3}, {}};  // rotation 0 1 0 1°
     const VrmlTransform<double> back = to_vrml(from_vrml(node));
-    std::printf("  %-44s rotation %g %g %g %.9f, translation %g %g %g\n", "1° about y (the tutorial returned no rotation)",
+    std::printf("  %s rotation %g %g %g %.9f, translation %g %g %g\n", padded("1° about y (the tutorial returned no rotation)").c_str(),
                 back.axis.x, back.axis.y, back.axis.z, back.angle, back.translation.x, back.translation.y, back.translation.z);
   }
 
