@@ -105,10 +105,22 @@ TEST_F(SkinCli, RenderSequenceStopsAtTheClipsEnd) {
   EXPECT_FALSE(fs::exists(dir_ / "end_0004.png"));
 }
 
+TEST_F(SkinCli, InfoOfAModelWithoutAnimationSaysSo) {
+  const Outcome r = run("info " + model("OBJ/box.obj"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("frames: 0 (no animation: the rest pose)"), std::string::npos) << r.out;  // not a 30 Hz rate of nothing
+}
+
 TEST_F(SkinCli, ErrorsSayWhat) {
   Outcome r = run("render " + model("X/Testwuson.X") + " --out " + (dir_ / "x.jpg").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("--out must name a .png file"), std::string::npos) << r.err;
+  r = run("render " + model("X/Testwuson.X") + " --out " + (dir_ / ".png").string());  // no name before the extension
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("--out must name a .png file"), std::string::npos) << r.err;
+  r = run("render " + model("X/Testwuson.X") + " --width 16 --height 16 --out " + (dir_ / "upper.PNG").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "upper.PNG"));
   r = run("skin " + model("X/Testwuson.X") + " --animation 7");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("--animation 7: the file has 3 animations"), std::string::npos) << r.err;

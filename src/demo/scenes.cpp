@@ -272,7 +272,7 @@ std::vector<View> viewports_views(const ViewportsState& s, const std::array<doub
     render::Lines text;
     text.color = {0.1f, 0.1f, 0.1f, 1};
     overlay_text(text, v.camera, aspect, method_name(m), -0.95, 0.88, 0.07);
-    if (nanoseconds) overlay_text(text, v.camera, aspect, format("%.1f NS PER FRAME", (*nanoseconds)[static_cast<std::size_t>(i)]), -0.95, 0.76, 0.06);
+    if (nanoseconds) overlay_text(text, v.camera, aspect, format("%.1f NS PER EVALUATION", (*nanoseconds)[static_cast<std::size_t>(i)]), -0.95, 0.76, 0.06);
     switch (m) {
       case Method::matrix:  // the thesis' gimbal-lock claim, explained
         overlay_text(text, v.camera, aspect, "GLROTATE 90 Z THEN 45 Y ON (0 1 0):", -0.95, -0.78, 0.05);

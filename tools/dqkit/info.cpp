@@ -95,7 +95,10 @@ int run_info(const InfoArgs& args) {
     o << "joints: " << s.size() << " (" << count_text(end_sites, "end site", "end sites") << ")\n";
     if (m.bvh) o << "channels: " << m.bvh->channel_count() << "\n";
     o << "animations: " << m.animation_count << "\n";
-    o << "frames: " << a.frame_count << ", frame time " << a.frame_time << " s (" << rate << " Hz), duration " << a.duration() << " s\n";
+    if (a.frame_count == 0)
+      o << "frames: 0 (no animation: the rest pose)\n";
+    else
+      o << "frames: " << a.frame_count << ", frame time " << a.frame_time << " s (" << rate << " Hz), duration " << a.duration() << " s\n";
     if (m.scene) {
       o << "meshes: " << m.scene->meshes.size() << " (" << skinned << " skinned, " << count_text(vertices, "vertex", "vertices") << ")\n";
       for (std::size_t i = 0; i < m.scene->animations.size(); ++i)
