@@ -6,6 +6,7 @@
 #include <cmath>
 #include <atomic>
 #include <cstdlib>
+#include <limits>
 #include <new>
 #include <random>
 #include <vector>
@@ -125,7 +126,8 @@ TEST(KinematicModel, AxesOfAnyLengthAreNormalizedAndZeroAxesRefused) {
   std::vector<DualQuaternion<double>> world(2);
   model_transforms<DualQuaternion<double>, double>(*scaled, q, world);
   EXPECT_LE(norm(world[1].translation() - Vec3<double>{0, 1, 0}), 1e-15);
-  for (const Vec3<double>& axis : {Vec3<double>{0, 0, 0}, Vec3<double>{0, NAN, 1}, Vec3<double>{INFINITY, 0, 0}}) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const Vec3<double>& axis : {Vec3<double>{0, 0, 0}, Vec3<double>{0, nan, 1}, Vec3<double>{inf, 0, 0}}) {
     const Expected<KinematicModel> bad = KinematicModel::build(skeleton, {{0, DofType::prismatic, axis, "slide"}});
     ASSERT_FALSE(bad.has_value());
     EXPECT_NE(bad.error().message.find("the axis has no direction"), std::string::npos) << bad.error().message;
