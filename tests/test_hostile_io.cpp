@@ -340,14 +340,20 @@ pid_t start_endless_writer(const fs::path& dir, const char* name) {
   return child;
 }
 
-TEST_F(HostileIo, ASignalDuringAWriteLeavesNoTemporaryFile) {
-  const pid_t child = start_endless_writer(dir_, "big.csv");
+/// Starts an endless writer of `name`, and once it writes, stops it with `signal`, which must be
+/// what ended it.
+void interrupt_endless_writer(const fs::path& dir, const char* name, int signal) {
+  const pid_t child = start_endless_writer(dir, name);
   ASSERT_GT(child, 0);
-  ASSERT_TRUE(dq::test::writes_output_in(child, dir_)) << "the child never started writing";
-  ::kill(child, SIGTERM);
+  ASSERT_TRUE(dq::test::writes_output_in(child, dir)) << "the child never started writing";
+  ::kill(child, signal);
   int status = 0;
   ::waitpid(child, &status, 0);
-  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == signal);
+}
+
+TEST_F(HostileIo, ASignalDuringAWriteLeavesNoTemporaryFile) {
+  ASSERT_NO_FATAL_FAILURE(interrupt_endless_writer(dir_, "big.csv", SIGTERM));
   EXPECT_TRUE(no_temporaries());
   EXPECT_FALSE(fs::exists(dir_ / "big.csv"));
 }
@@ -363,13 +369,7 @@ TEST_F(HostileIo, AnonymousFilesLeaveNothingEvenAfterSigkill) {
     ASSERT_TRUE(f->commit());
   }
   EXPECT_EQ(slurp(dir_ / "out.txt"), "data");
-  const pid_t child = start_endless_writer(dir_, "big.csv");
-  ASSERT_GT(child, 0);
-  ASSERT_TRUE(dq::test::writes_output_in(child, dir_)) << "the child never started writing";
-  ::kill(child, SIGKILL);
-  int status = 0;
-  ::waitpid(child, &status, 0);
-  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  ASSERT_NO_FATAL_FAILURE(interrupt_endless_writer(dir_, "big.csv", SIGKILL));
   std::vector<std::string> left;
   for (const auto& e : fs::directory_iterator(dir_)) left.push_back(e.path().filename().string());
   EXPECT_EQ(left, std::vector<std::string>{"out.txt"});

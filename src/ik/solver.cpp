@@ -17,9 +17,7 @@ namespace dq {
 
 namespace {
 
-constexpr int kMaxLevels = kIkPriorityLevels;
-constexpr std::size_t kMaxTasks = kIkMaxTasks;
-static_assert(kMaxLevels == 4 && kMaxTasks == 64, "the invalid_input messages quote these limits");
+static_assert(kIkPriorityLevels == 4 && kIkMaxTasks == 64, "the invalid_input messages quote these limits");
 constexpr double kTargetUnitTolerance = 1e-6;
 /// The first step's damping grows with the error at the start: λ₀ = initial_damping + kDampingPerCost ×
 /// Σ w |r|² (as Sugihara's λ = E + w̄, IEEE T-RO 2011): heavy far from the target, where the
@@ -35,8 +33,8 @@ constexpr double kDampingPerCost = 0.1;
 constexpr double kDampingDown = 2, kDampingUp = 4;
 constexpr double kLevelScale = 1e-6;
 /// kLevelScale^k for each priority level k (the weight of its cost in the merit).
-constexpr std::array<double, kMaxLevels> kLevelWeight = [] {
-  std::array<double, kMaxLevels> w{};
+constexpr std::array<double, kIkPriorityLevels> kLevelWeight = [] {
+  std::array<double, kIkPriorityLevels> w{};
   double v = 1;
   for (double& x : w) x = v, v *= kLevelScale;
   return w;
@@ -136,8 +134,8 @@ struct BasicIkSolver<X>::Workspace {
         free(n, 1),
         qh(n),
         world_h(joints) {
-    row_of.reserve(kMaxTasks);
-    tasks.reserve(kMaxTasks);
+    row_of.reserve(kIkMaxTasks);
+    tasks.reserve(kIkMaxTasks);
     jacobian.setZero();
   }
 };
@@ -163,7 +161,7 @@ namespace {
 /// Everything one evaluation of the tasks at q gives.
 struct Evaluation {
   double cost = 0;                          // Σ_levels scale^level Σ w |r|²
-  std::array<double, kMaxLevels> level{};   // Σ w |r|² of each priority level
+  std::array<double, kIkPriorityLevels> level{};   // Σ w |r|² of each priority level
   double position_error = 0, orientation_error = 0;
 };
 
@@ -173,7 +171,7 @@ struct Evaluation {
 /// a while (a step along the linearized null space moves off the curved constraint, and the next
 /// step comes back): a strictly lexicographic test would stall there. Costs below `floor` (well
 /// within the tolerances) count as zero.
-bool better(const Evaluation& a, const Evaluation& b, double floor, int levels = kMaxLevels) {
+bool better(const Evaluation& a, const Evaluation& b, double floor, int levels = kIkPriorityLevels) {
   double ma = 0, mb = 0;
   for (std::size_t l = 0; l < static_cast<std::size_t>(levels); ++l) {
     const double scale = kLevelWeight[l];
@@ -404,13 +402,13 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> requested, std::span<do
     if (!std::isfinite(v)) return invalid("q has a non-finite value");
   for (double v : rest)
     if (!std::isfinite(v)) return invalid("rest has a non-finite value");
-  if (requested.size() > kMaxTasks) return invalid("too many tasks (at most 64)");
+  if (requested.size() > kIkMaxTasks) return invalid("too many tasks (at most 64)");
   ws.row_of.clear();
   ws.tasks.assign(requested.begin(), requested.end());  // within the capacity reserved: no allocation
   std::size_t rows = 0;
   for (IkTask& t : ws.tasks) {
     if (t.joint < 0 || static_cast<std::size_t>(t.joint) >= ws.joints) return invalid("a task's effector is not a joint of the model");
-    if (t.priority < 0 || t.priority >= kMaxLevels) return invalid("task priorities must be 0 to 3");
+    if (t.priority < 0 || t.priority >= kIkPriorityLevels) return invalid("task priorities must be 0 to 3");
     if (t.priority > 0 && options_.method == IkMethod::gauss_seidel)
       return invalid("Gauss-Seidel solves one priority level: give every task priority 0 (and weights)");
     if (!(t.weight > 0) || !std::isfinite(t.weight)) return invalid("task weights must be positive and finite");

@@ -1,6 +1,6 @@
-#include <cctype>
 #include <filesystem>
 
+#include "dq/io/file.hpp"
 #include "dq/io/scene.hpp"
 
 namespace dq {
@@ -20,8 +20,7 @@ Expected<Motion> import_motion(const std::filesystem::path& path, const MotionOp
   Expected<ImportedScene> scene = import_scene(path, io);
   if (!scene) return scene.error();
   Motion m;
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lowercase_extension(path);
   m.format = ext.empty() ? "unknown" : ext.substr(1);
   m.skeleton = scene->skeleton;
   m.animation_count = scene->animations.size();

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -248,6 +249,12 @@ Status OutputFile::commit() {
     return finish(rc, e);
   }
   return finish(rc, errno);
+}
+
+std::string lowercase_extension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
 }
 
 Status write_file_atomically(const std::filesystem::path& path, std::string_view contents, Overwrite overwrite) {

@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "dq/anim/animation.hpp"
+#include "dq/io/file.hpp"
 
 namespace dq {
 
@@ -83,9 +84,7 @@ Expected<Motion> from_bvh(Expected<BvhFile> bvh, const std::string& source, cons
 }  // namespace
 
 bool has_bvh_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".bvh";
+  return lowercase_extension(path) == ".bvh";
 }
 
 Expected<Motion> load_motion(const std::filesystem::path& path, const MotionOptions& options) {

@@ -1,6 +1,5 @@
 // dqkit convert: any motion file to BVH, optionally in another rotation order, at another rate or
 // in another unit.
-#include <cctype>
 #include <filesystem>
 #include <memory>
 
@@ -33,9 +32,7 @@ void scale_lengths(BvhFile& bvh, double s) {
 
 int run_convert(const ConvertArgs& args) {
   if (!is_stdout(args.output)) {
-    std::string ext = std::filesystem::path(args.output).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".bvh") throw Failure(args.output + ": only BVH output is supported (the file name must end in .bvh, or - for standard output)");
+    if (lowercase_extension(args.output) != ".bvh") throw Failure(args.output + ": only BVH output is supported (the file name must end in .bvh, or - for standard output)");
   }
   const Motion m = load(args.input);
   Output out(args.output, args.force, {args.input.file});  // before the work: refusals come first

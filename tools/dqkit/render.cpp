@@ -2,7 +2,6 @@
 // CoR or all three side by side, one time or a sequence of numbered PNGs, with a camera that
 // frames the whole animation so that the frames of a sequence line up; or shown in a window, where
 // a drag turns the camera and the wheel moves it nearer or farther (render::orbit).
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -36,9 +35,7 @@ int run_render(const RenderArgs& a) {
   std::vector<SkinningMethod> methods{SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor};
   if (a.method != "all") methods = {method_named(a.method)};
   // A .png name with a stem (".png" alone names a hidden file without one); the extension in any case.
-  std::string extension = std::filesystem::path(a.output).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (!a.window && extension != ".png") throw Failure("--out must name a .png file (or use --window)");
+  if (!a.window && lowercase_extension(a.output) != ".png") throw Failure("--out must name a .png file (or use --window)");
   const int width = a.width > 0 ? a.width : (methods.size() > 1 ? 1200 : 800);
   const int height = a.height > 0 ? a.height : (methods.size() > 1 ? 400 : 600);
   double yaw = 35, pitch = 20, distance = 0;

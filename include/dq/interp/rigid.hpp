@@ -26,12 +26,12 @@ template <class T>
 DualQuaternion<T> unit_to_rounding(const DualQuaternion<T>& q) {
   using std::abs;
   using R = real_t<T>;
-  if constexpr (has_derivatives_v<T>) return q.normalized();
-  const R e = R(4) * std::numeric_limits<R>::epsilon();
-  const R rr = value_of(dot(q.real, q.real)), rd = value_of(dot(q.real, q.dual));
-  const R size = abs(value_of(q.dual.w)) + abs(value_of(q.dual.x)) + abs(value_of(q.dual.y)) + abs(value_of(q.dual.z));
-  if (abs(rr - R(1)) <= e && abs(rd) <= e * (R(1) + size)) [[likely]]
-    return q;
+  if constexpr (!has_derivatives_v<T>) {
+    const R rd = value_of(dot(q.real, q.dual));
+    const R size = abs(value_of(q.dual.w)) + abs(value_of(q.dual.x)) + abs(value_of(q.dual.y)) + abs(value_of(q.dual.z));
+    if (is_unit_to_rounding(value_of(dot(q.real, q.real))) && abs(rd) <= R(4) * std::numeric_limits<R>::epsilon() * (R(1) + size)) [[likely]]
+      return q;
+  }
   return q.normalized();
 }
 }  // namespace detail

@@ -50,6 +50,9 @@ class OutputFile {
   std::string error_;
 };
 
+/// The extension of a file name with its dot, in lower case ("" for none): ".BVH" and ".bvh" alike.
+std::string lowercase_extension(const std::filesystem::path& path);
+
 /// Writes `contents` to `path` (OutputFile: create, write, commit). Errors name the file.
 Status write_file_atomically(const std::filesystem::path& path, std::string_view contents, Overwrite overwrite);
 
