@@ -5,12 +5,14 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <numbers>
 #include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
 #include "cli.hpp"
+#include "dq/demo/glyphs.hpp"
 #include "window_pictures.hpp"
 
 namespace {
@@ -98,6 +100,79 @@ TEST(Demos, LabelsFitNarrowViews) {
   demo::BipedDemo biped;
   biped.step(0.0);
   for (const auto& [w, h] : {std::pair{800, 800}, std::pair{400, 1000}, std::pair{1000, 600}}) expect_labels_inside(biped.views(w, h), "biped");
+}
+
+/// The world directions of a label's reading direction and of its up, as drawn: the affine map
+/// taking the label set in the plane (x right, y up) to its drawn strokes, fitted to all points
+/// (normal equations, Cramer's rule).
+std::pair<Vec3<double>, Vec3<double>> drawn_axes(const std::string& label, const std::vector<Vec3<double>>& drawn) {
+  std::vector<Vec3<float>> flat;
+  demo::add_text(flat, label, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 1.5);
+  EXPECT_EQ(flat.size(), drawn.size()) << label;
+  if (flat.size() != drawn.size()) return {};
+  double m[3][3] = {};  // sums of b bᵀ, b = (1, x, y)
+  Vec3<double> rhs[3] = {};
+  for (std::size_t i = 0; i < flat.size(); ++i) {
+    const double b[3] = {1, flat[i].x, flat[i].y};
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) m[r][c] += b[r] * b[c];
+      rhs[r] = rhs[r] + drawn[i] * b[r];
+    }
+  }
+  const auto det = [](const double (&a)[3][3]) {
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+  };
+  const auto solve_column = [&](int column) {  // the coefficient of basis function `column`, per coordinate
+    Vec3<double> out;
+    for (int k = 0; k < 3; ++k) {
+      double a[3][3];
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) a[r][c] = c == column ? (k == 0 ? rhs[r].x : k == 1 ? rhs[r].y : rhs[r].z) : m[r][c];
+      (k == 0 ? out.x : k == 1 ? out.y : out.z) = det(a) / det(m);
+    }
+    return out;
+  };
+  return {solve_column(1), solve_column(2)};
+}
+
+TEST(Demos, PuzzleNumbersReadUprightFromACameraInFrontOfTheirFace) {
+  // They were drawn along each piece's local y with local z up, which put those of the +x face
+  // sideways and those of the top face upside down. Fitted from the drawn strokes, each number's
+  // reading direction and its up must read on the screen of a camera in front of its face better
+  // than the text turned or mirrored would: the default camera for the +x, +y and +z faces, the
+  // one opposite for −x and −z, the one below for −y.
+  const demo::Puzzle solved;
+  for (int piece = 0; piece < demo::puzzle_pieces; ++piece) {
+    const int face = piece / 4;  // +x, −x, +y, −y, +z, −z
+    const double yaw = face == 1 || face == 5 ? 0.6 + std::numbers::pi : 0.6, pitch = face == 3 ? -0.45 : 0.45;
+    const render::Camera camera = demo::puzzle_camera(800.0 / 600, yaw, pitch);
+    const DualQuaternion<double> pose = solved.pose(piece);
+    const Vec3<double> normal = pose.real.rotate({1, 0, 0}), centre = pose.transform_point({demo::piece_thickness / 2, 0, 0});
+    ASSERT_GT(dot(normal, camera.eye() - centre), 0) << "piece " << piece << " faces away from its camera";
+    const demo::View v = demo::puzzle_view(solved, std::nullopt, camera, {0, 0, 800, 600});
+    std::vector<Vec3<double>> mine;  // the strokes on this piece's outer side, in the order drawn
+    for (const render::Lines& lines : v.scene.lines)
+      if (lines.color.r < 0.2f && lines.color.g < 0.2f && lines.color.b < 0.2f)
+        for (const Vec3<float>& p : lines.points) {
+          const Vec3<double> q{p.x, p.y, p.z};
+          if (std::abs(dot(q - centre, normal)) < 0.05 && norm(q - centre) < 2) mine.push_back(q);
+        }
+    const auto [right, up] = drawn_axes((piece < 10 ? "0" : "") + std::to_string(piece), mine);
+    // How well a reading direction and an up read on screen: the first's unit screen direction
+    // along the screen's x plus the second's against its y (rows grow downwards). The drawn pair
+    // must beat the seven other ways to lay the text on the face (turned, mirrored).
+    const auto direction = [&](const Vec3<double>& d) {
+      const render::Projected a = render::project(camera, 800, 600, centre), b = render::project(camera, 800, 600, centre + d);
+      const double dx = b.x - a.x, dy = b.y - a.y, n = std::hypot(dx, dy);
+      return std::pair{dx / n, dy / n};
+    };
+    const auto score = [&](const Vec3<double>& r, const Vec3<double>& u) { return direction(r).first - direction(u).second; };
+    const double drawn = score(right, up);
+    const std::pair<Vec3<double>, Vec3<double>> others[7] = {{up, -right},  {-right, -up}, {-up, right}, {-right, up},
+                                                             {up, right},   {right, -up},  {-up, -right}};
+    for (const auto& [r, u] : others) EXPECT_GT(drawn, score(r, u) + 0.05) << "piece " << piece << ": its number is turned or mirrored";
+  }
 }
 
 TEST(Demos, FramesOfAnEarlierRunAreReplacedOnlyWithForce) {

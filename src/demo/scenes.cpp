@@ -94,6 +94,14 @@ DualQuaternion<double> drawn_pose(const Puzzle& puzzle, int piece, const std::op
   return puzzle.pose(piece);
 }
 
+Vec3<double> number_up(int piece) {
+  // The default camera is at yaw 0.6 (from +z towards +x): its view's up on the top face is −z.
+  static const Puzzle solved;
+  const Vec3<double> n = slot_normal(piece);
+  const Vec3<double> world_up = n.y > 0.5 ? Vec3<double>{0, 0, -1} : n.y < -0.5 ? Vec3<double>{0, 0, 1} : Vec3<double>{0, 1, 0};
+  return solved.pose(piece).real.conjugate().rotate(world_up);
+}
+
 View puzzle_view(const Puzzle& puzzle, const std::optional<PuzzleAnimation>& animation, const render::Camera& camera,
                  render::Viewport viewport) {
   View v{{}, camera, viewport};
@@ -102,11 +110,14 @@ View puzzle_view(const Puzzle& puzzle, const std::optional<PuzzleAnimation>& ani
   for (int piece = 0; piece < puzzle_pieces; ++piece) {
     const DualQuaternion<double> pose = drawn_pose(puzzle, piece, animation);
     v.scene.meshes.push_back(slab(pose, face_color(piece / 4)));
-    // The number on the picture side (local +x), reading along local y with local z up.
+    // The number on the picture side (local +x), upright in the solved cube as seen from the
+    // default camera (number_up).
     const std::string label = (piece < 10 ? "0" : "") + std::to_string(piece);
     const double height = 1.5, width = text_width(label, height) - height / 6 * 1.5;
+    const Vec3<double> up = number_up(piece), right = cross(up, Vec3<double>{1, 0, 0});
     std::vector<Vec3<float>> local;
-    add_text(local, label, {piece_thickness / 2 + 0.01, -width / 2, -height / 2}, {0, 1, 0}, {0, 0, 1}, height);
+    add_text(local, label, Vec3<double>{piece_thickness / 2 + 0.01, 0, 0} - right * (width / 2) - up * (height / 2), right, up,
+             height);
     for (const Vec3<float>& p : local) numbers.points.push_back(to_float(pose.transform_point({p.x, p.y, p.z})));
   }
   v.scene.lines.push_back(std::move(numbers));

@@ -37,6 +37,10 @@ render::Camera puzzle_camera(double aspect, double yaw = 0.6, double pitch = 0.4
 /// The pose of a piece as drawn: its pose, or during `animation` (if it is the moving piece)
 /// move_motion(from, to, t) · pose before the move (`puzzle` is the state before the move).
 DualQuaternion<double> drawn_pose(const Puzzle& puzzle, int piece, const std::optional<PuzzleAnimation>& animation);
+/// The up direction of a piece's number, in the piece's frame (the number lies on local +x): in
+/// the solved cube, world +y on the side faces, and on the top and bottom faces the horizontal axis
+/// that reads upright from the default camera above (−z) and below (+z).
+Vec3<double> number_up(int piece);
 /// The pieces as slabs coloured by home face with their numbers drawn on their outer side, the
 /// cube's edges as thin lines.
 View puzzle_view(const Puzzle& puzzle, const std::optional<PuzzleAnimation>& animation, const render::Camera& camera,
