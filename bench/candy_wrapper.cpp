@@ -15,6 +15,7 @@
 #include "dq/skin/skinning.hpp"
 #if defined(DQKIT_HAVE_RENDER)
 #include "dq/render/render.hpp"
+#include "dq/render/text.hpp"
 #endif
 
 using namespace dq;
@@ -133,7 +134,13 @@ int main(int argc, char** argv) {
       }
       // From the front, slightly above (bends are in the xy plane).
       const render::Camera camera = render::Camera::framing(bounds, 1.0, 0.25, 0.3, 0.7, 0.0);
-      for (std::size_t k = 0; k < 3; ++k) renderer->draw(scenes[k], camera, viewports[k]);
+      const char* const names[] = {"LBS", "DQS", "COR"};
+      for (std::size_t k = 0; k < 3; ++k) {
+        render::Lines caption{{}, {0.1f, 0.1f, 0.1f, 1}, true};
+        render::add_overlay_text(caption, camera, 1.0, names[k], -0.92, 0.82, 0.09);
+        scenes[k].lines.push_back(std::move(caption));
+        renderer->draw(scenes[k], camera, viewports[k]);
+      }
       const std::string path = std::string(pictures) + "/candy_" + p.name + ".png";
       if (Status s = renderer->read().write_png(path); !s) {
         std::fprintf(stderr, "candy_wrapper: %s\n", s.error().message.c_str());

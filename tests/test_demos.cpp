@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "cli.hpp"
-#include "dq/demo/glyphs.hpp"
+#include "dq/render/text.hpp"
 #include "window_pictures.hpp"
 
 namespace {
@@ -107,7 +107,7 @@ TEST(Demos, LabelsFitNarrowViews) {
 /// (normal equations, Cramer's rule).
 std::pair<Vec3<double>, Vec3<double>> drawn_axes(const std::string& label, const std::vector<Vec3<double>>& drawn) {
   std::vector<Vec3<float>> flat;
-  demo::add_text(flat, label, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 1.5);
+  render::add_text(flat, label, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 1.5);
   EXPECT_EQ(flat.size(), drawn.size()) << label;
   if (flat.size() != drawn.size()) return {};
   double m[3][3] = {};  // sums of b bᵀ, b = (1, x, y)

@@ -10,10 +10,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <tuple>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "dq/render/render.hpp"
+#include "dq/render/text.hpp"
 
 namespace dq::render {
 namespace {
@@ -136,6 +138,28 @@ TEST(Render, ViewportsAndFraming) {
   const Point2 centre = glm_project(cam, 200, 200, {0, 0, 0});
   EXPECT_NEAR(centre.x, 100, 1e-9);
   EXPECT_NEAR(centre.y, 100, 1e-9);
+}
+
+TEST(Render, CaptionsLandWhereTheViewPutsThoseCoordinates) {
+  // overlay_point(u, v) must project to the pixel that normalized device coordinates (u, v) name,
+  // for any camera and aspect; a caption too long for its view is shrunk to end before u = 0.95.
+  for (const auto& [yaw, pitch, aspect] : {std::tuple{0.6, 0.35, 1.0}, std::tuple{-2.0, -1.2, 3.0}, std::tuple{3.0, 1.4, 0.4}}) {
+    Camera camera;
+    camera.target = {1, -2, 0.5}, camera.distance = 7, camera.yaw = yaw, camera.pitch = pitch;
+    const int h = 300, w = static_cast<int>(h * aspect);
+    for (const auto& [u, v] : {std::pair{-0.95, 0.9}, std::pair{0.0, 0.0}, std::pair{0.5, -0.7}}) {
+      const Projected p = project(camera, w, h, overlay_point(camera, aspect, u, v));
+      EXPECT_NEAR(p.x, (u + 1) / 2 * w, 1e-6 * w) << yaw;
+      EXPECT_NEAR(p.y, (1 - v) / 2 * h, 1e-6 * h) << yaw;
+    }
+    Lines caption;
+    add_overlay_text(caption, camera, aspect, "A CAPTION FAR TOO LONG FOR ANY VIEW OF THIS SIZE", -0.95, 0.8, 0.2);
+    ASSERT_FALSE(caption.points.empty());
+    double right = -1e9;
+    for (const Vec3<float>& q : caption.points) right = std::max(right, project(camera, w, h, {q.x, q.y, q.z}).x);
+    EXPECT_LE(right, (0.95 + 1) / 2 * w + 1e-6 * w);
+    EXPECT_GT(right, 0.8 * w);  // shrunk to fit, not to nothing
+  }
 }
 
 TEST(Render, LinesOnTopShowThroughAndPngKeepsThePixels) {

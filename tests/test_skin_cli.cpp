@@ -82,6 +82,24 @@ TEST_F(SkinCli, RenderAllThreeSideBySide) {
     const long channel[3] = {r_sum, g_sum, b_sum};
     EXPECT_EQ(std::max_element(channel, channel + 3) - channel, third == 0 ? 0 : third == 1 ? 2 : 1) << "third " << third;
   }
+  // Each third is captioned with its method's name at its top left: dark strokes there, as in
+  // no picture of one method alone.
+  const auto dark_top_left = [](const unsigned char* pixels, int width, int x0) {
+    int dark = 0;
+    for (int y = 0; y < 30; ++y)
+      for (int x = x0; x < x0 + 50; ++x) {
+        const unsigned char* p = pixels + 4 * (y * width + x);
+        dark += std::max({p[0], p[1], p[2]}) < 160;
+      }
+    return dark;
+  };
+  for (int third = 0; third < 3; ++third) EXPECT_GT(dark_top_left(data, w, third * 100), 20) << "third " << third << " has no caption";
+  stbi_image_free(data);
+  const std::string one = (dir_ / "one.png").string();
+  ASSERT_EQ(run("render " + model("X/BCN_Epileptic.X") + " --time 1 --method dqs --width 100 --height 120 --out " + one).code, 0);
+  data = stbi_load(one.c_str(), &w, &h, &n, 4);
+  ASSERT_NE(data, nullptr);
+  EXPECT_EQ(dark_top_left(data, w, 0), 0);
   stbi_image_free(data);
 }
 
@@ -124,9 +142,18 @@ TEST_F(SkinCli, ErrorsSayWhat) {
   r = run("skin " + model("X/Testwuson.X") + " --animation 7");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("--animation 7: the file has 3 animations"), std::string::npos) << r.err;
-  r = run("render " + model("X/Testwuson.X") + " --camera 10 --out " + (dir_ / "y.png").string());
-  EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("--camera must be"), std::string::npos) << r.err;
+  // --camera: two or three finite numbers and nothing else (sscanf let '10,20,' and '10,20,5,' through);
+  // a pitch beyond the orbit camera's ±86° was clamped silently.
+  for (const auto& [camera, message] : {std::pair{"10", "--camera must be"}, std::pair{"10,20,", "--camera must be"},
+                                        std::pair{"10,,20", "--camera must be"}, std::pair{"10,20,5,1", "--camera must be"},
+                                        std::pair{"10,20x", "--camera must be"}, std::pair{"nan,20", "--camera must be"},
+                                        std::pair{"10,90", "the pitch 90° is beyond ±85.94°"},
+                                        std::pair{"10,20,-1", "the distance -1 is negative"}}) {
+    r = run("render " + model("X/Testwuson.X") + " --camera=" + camera + " --out " + (dir_ / "y.png").string());
+    EXPECT_EQ(r.code, 1) << camera;
+    EXPECT_NE(r.err.find(message), std::string::npos) << camera << ": " << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "y.png")) << camera;
+  }
   r = run("render " + model("X/Testwuson.X") + " --window");  // CTest runs without a display
   if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) {
     EXPECT_EQ(r.code, 1);

@@ -6,36 +6,13 @@
 #include <numbers>
 
 #include "dq/core/hyperdual_quaternion.hpp"
-#include "dq/demo/glyphs.hpp"
+#include "dq/render/text.hpp"
 #include "dq/interp/rotation.hpp"
 
 namespace dq::demo {
 namespace {
 
 Vec3<float> to_float(const Vec3<double>& p) { return {float(p.x), float(p.y), float(p.z)}; }
-
-/// A point of the plane through the camera's target facing the camera, at normalized device
-/// coordinates (u, v) ∈ [−1, 1]² of a viewport of this aspect: where overlay text and plots go.
-Vec3<double> overlay_point(const render::Camera& c, double aspect, double u, double v) {
-  const Vec3<double> forward = normalized(c.target - c.eye());
-  const Vec3<double> right = normalized(cross(forward, {0, 1, 0}));
-  const Vec3<double> up = cross(right, forward);
-  const double half = c.distance * std::tan(c.fov_y / 2);
-  return c.target + right * (u * half * aspect) + up * (v * half);
-}
-
-/// Text on the overlay plane, its baseline starting at (u, v), `height` in NDC units, made
-/// smaller where it would run past u = 0.95 (a narrow view: text sized by the view's height alone
-/// ran into the next view).
-void overlay_text(render::Lines& lines, const render::Camera& c, double aspect, std::string_view text, double u, double v,
-                  double height) {
-  const Vec3<double> origin = overlay_point(c, aspect, u, v);
-  const Vec3<double> right = overlay_point(c, aspect, u + 1, v) - origin, up = overlay_point(c, aspect, u, v + 1) - origin;
-  double world_height = height * norm(up);
-  const double room = (0.95 - u) * norm(right), width = text_width(text, world_height);
-  if (width > room && width > 0) world_height *= room / width;
-  add_text(lines.points, text, origin, right, up, world_height);
-}
 
 render::Mesh slab(const DualQuaternion<double>& pose, render::Color color) {
   // The tutorial's slab, 0.4 thick, 3.9 wide (a small gap between neighbours), one quad per side.
@@ -113,10 +90,10 @@ View puzzle_view(const Puzzle& puzzle, const std::optional<PuzzleAnimation>& ani
     // The number on the picture side (local +x), upright in the solved cube as seen from the
     // default camera (number_up).
     const std::string label = (piece < 10 ? "0" : "") + std::to_string(piece);
-    const double height = 1.5, width = text_width(label, height) - height / 6 * 1.5;
+    const double height = 1.5, width = render::text_width(label, height) - height / 6 * 1.5;
     const Vec3<double> up = number_up(piece), right = cross(up, Vec3<double>{1, 0, 0});
     std::vector<Vec3<float>> local;
-    add_text(local, label, Vec3<double>{piece_thickness / 2 + 0.01, 0, 0} - right * (width / 2) - up * (height / 2), right, up,
+    render::add_text(local, label, Vec3<double>{piece_thickness / 2 + 0.01, 0, 0} - right * (width / 2) - up * (height / 2), right, up,
              height);
     for (const Vec3<float>& p : local) numbers.points.push_back(to_float(pose.transform_point({p.x, p.y, p.z})));
   }
@@ -282,22 +259,22 @@ std::vector<View> viewports_views(const ViewportsState& s, const std::array<doub
     v.scene.points = {base, tip};
     render::Lines text;
     text.color = {0.1f, 0.1f, 0.1f, 1};
-    overlay_text(text, v.camera, aspect, method_name(m), -0.95, 0.88, 0.07);
-    if (nanoseconds) overlay_text(text, v.camera, aspect, format("%.1f NS PER EVALUATION", (*nanoseconds)[static_cast<std::size_t>(i)]), -0.95, 0.76, 0.06);
+    render::add_overlay_text(text, v.camera, aspect, method_name(m), -0.95, 0.88, 0.07);
+    if (nanoseconds) render::add_overlay_text(text, v.camera, aspect, format("%.1f NS PER EVALUATION", (*nanoseconds)[static_cast<std::size_t>(i)]), -0.95, 0.76, 0.06);
     switch (m) {
       case Method::matrix:  // the thesis' gimbal-lock claim, explained
-        overlay_text(text, v.camera, aspect, "GLROTATE 90 Z THEN 45 Y ON (0 1 0):", -0.95, -0.78, 0.05);
-        overlay_text(text, v.camera, aspect, "IT LIES ON THE Y AXIS: NO GIMBAL LOCK", -0.95, -0.9, 0.05);
+        render::add_overlay_text(text, v.camera, aspect, "GLROTATE 90 Z THEN 45 Y ON (0 1 0):", -0.95, -0.78, 0.05);
+        render::add_overlay_text(text, v.camera, aspect, "IT LIES ON THE Y AXIS: NO GIMBAL LOCK", -0.95, -0.9, 0.05);
         break;
       case Method::quaternion_slerp: {  // the thesis' SLERP failures, fixed
         const auto q = Quaternion<double>::from_axis_angle({1, 0, 0}, std::numbers::pi / 2);
-        overlay_text(text, v.camera, aspect, format("SLERP(Q Q 0.5) NORM %.6f", slerp(q, q, 0.5).norm()), -0.95, -0.78, 0.05);
-        overlay_text(text, v.camera, aspect, format("SLERP(Q -Q 0.5) NORM %.6f", slerp(q, -q, 0.5).norm()), -0.95, -0.9, 0.05);
+        render::add_overlay_text(text, v.camera, aspect, format("SLERP(Q Q 0.5) NORM %.6f", slerp(q, q, 0.5).norm()), -0.95, -0.78, 0.05);
+        render::add_overlay_text(text, v.camera, aspect, format("SLERP(Q -Q 0.5) NORM %.6f", slerp(q, -q, 0.5).norm()), -0.95, -0.9, 0.05);
         break;
       }
       case Method::dual_quaternion:
       case Method::hyper_dual_quaternion:
-        overlay_text(text, v.camera, aspect, format("TIP - MATRIX TIP %.1e", norm(a.tip - reference.tip)), -0.95, -0.9, 0.05);
+        render::add_overlay_text(text, v.camera, aspect, format("TIP - MATRIX TIP %.1e", norm(a.tip - reference.tip)), -0.95, -0.9, 0.05);
         break;
     }
     v.scene.lines.push_back(text);
@@ -458,23 +435,23 @@ std::vector<View> BipedDemo::views(int width, int height) const {
     render::Lines text;
     text.color = {0.1f, 0.1f, 0.1f, 1};
     text.on_top = true;
-    overlay_text(text, v.camera, aspect, matrices ? "IK WITH MATRICES" : "IK WITH DUAL QUATERNIONS", -0.95, 0.9, 0.06);
-    overlay_text(text, v.camera, aspect, ideal_note, -0.95, 0.8, 0.045);
+    render::add_overlay_text(text, v.camera, aspect, matrices ? "IK WITH MATRICES" : "IK WITH DUAL QUATERNIONS", -0.95, 0.9, 0.06);
+    render::add_overlay_text(text, v.camera, aspect, ideal_note, -0.95, 0.8, 0.045);
     const auto& e = errors(matrices);
-    if (!e.empty()) overlay_text(text, v.camera, aspect, format("POSITION ERROR %.1e M", e.back()), -0.95, 0.72, 0.045);
+    if (!e.empty()) render::add_overlay_text(text, v.camera, aspect, format("POSITION ERROR %.1e M", e.back()), -0.95, 0.72, 0.045);
     render::Lines plot;
     plot.color = green;
     plot.on_top = true;
     const double x0 = -0.9, x1 = 0.9, y0 = -0.95, y1 = -0.6;
     for (const auto& [a, b] : {std::pair{Vec3<double>{x0, y0, 0}, Vec3<double>{x1, y0, 0}}, std::pair{Vec3<double>{x0, y0, 0}, Vec3<double>{x0, y1, 0}}}) {
-      text.points.push_back(to_float(overlay_point(v.camera, aspect, a.x, a.y)));
-      text.points.push_back(to_float(overlay_point(v.camera, aspect, b.x, b.y)));
+      text.points.push_back(to_float(render::overlay_point(v.camera, aspect, a.x, a.y)));
+      text.points.push_back(to_float(render::overlay_point(v.camera, aspect, b.x, b.y)));
     }
-    overlay_text(text, v.camera, aspect, "LOG10 ERR", x0 + 0.02, y1 - 0.05, 0.035);
+    render::add_overlay_text(text, v.camera, aspect, "LOG10 ERR", x0 + 0.02, y1 - 0.05, 0.035);
     const std::size_t n = std::min<std::size_t>(e.size(), 150), first = e.size() - n;
     auto plot_point = [&](std::size_t i) {
       const double l = std::clamp(std::log10(std::max(e[first + i], 1e-16)), -16.0, 0.0);
-      return to_float(overlay_point(v.camera, aspect, x0 + (x1 - x0) * double(i) / 149, y0 + (y1 - y0) * (l + 16) / 16));
+      return to_float(render::overlay_point(v.camera, aspect, x0 + (x1 - x0) * double(i) / 149, y0 + (y1 - y0) * (l + 16) / 16));
     };
     for (std::size_t i = 1; i < n; ++i) {
       plot.points.push_back(plot_point(i - 1));

@@ -45,7 +45,7 @@ Camera Camera::framing(const Bounds& bounds, double aspect, double yaw, double p
 
 void orbit(Camera& c, const WindowInput& in) {
   c.yaw -= in.drag_x * orbit_radians_per_pixel;
-  c.pitch = std::clamp(c.pitch + in.drag_y * orbit_radians_per_pixel, -1.5, 1.5);
+  c.pitch = std::clamp(c.pitch + in.drag_y * orbit_radians_per_pixel, -orbit_max_pitch, orbit_max_pitch);
   if (in.wheel != 0) {
     const double distance = c.distance * std::pow(0.9, in.wheel), change = distance - c.distance;
     c.distance = distance;

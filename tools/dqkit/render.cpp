@@ -1,7 +1,8 @@
 // dqkit render: pictures of a skinned model, headless (OpenGL 3.3 core on Mesa's EGL): LBS, DQS,
-// CoR or all three side by side, one time or a sequence of numbered PNGs, with a camera that
+// CoR or all three side by side (each view captioned), one time or a sequence of numbered PNGs, with a camera that
 // frames the whole animation so that the frames of a sequence line up; or shown in a window, where
 // a drag turns the camera and the wheel moves it nearer or farther (render::orbit).
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "dq/render/render.hpp"
+#include "dq/render/text.hpp"
 #include "skinned_model.hpp"
 
 namespace dq::cli {
@@ -31,6 +33,39 @@ struct RenderArgs {
   bool window = false;
 };
 
+struct CameraAngles {
+  double yaw = 35, pitch = 20, distance = 0;  ///< degrees, degrees, model units (0: framing)
+};
+
+/// --camera 'yaw,pitch[,distance]': two or three finite numbers and nothing else, the pitch within
+/// the orbit camera's range (render::orbit_max_pitch; it would be clamped there), the distance ≥ 0.
+CameraAngles parse_camera(const std::string& text) {
+  const std::string usage = "--camera must be 'yaw,pitch' or 'yaw,pitch,distance' (degrees, degrees, model units; 0 or none: "
+                            "the distance that frames the animation), got '" + text + "'";
+  double values[3] = {0, 0, 0};
+  std::size_t count = 0, start = 0;
+  for (;;) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    if (count == 3) throw Failure(usage);
+    const char *first = text.data() + start, *last = text.data() + comma;
+    const auto r = std::from_chars(first, last, values[count]);
+    if (first == last || r.ec != std::errc() || r.ptr != last || !std::isfinite(values[count])) throw Failure(usage);
+    ++count;
+    if (comma == text.size()) break;
+    start = comma + 1;
+  }
+  if (count < 2) throw Failure(usage);
+  const double max_pitch = render::orbit_max_pitch * 180 / std::numbers::pi;
+  if (std::abs(values[1]) > max_pitch) {
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%.2f", max_pitch);
+    throw Failure("--camera: the pitch " + CLI::detail::to_string(values[1]) + "° is beyond ±" + limit +
+                  "° (the orbit camera's range: straight down or up, the view's up would be undefined)");
+  }
+  if (values[2] < 0) throw Failure("--camera: the distance " + CLI::detail::to_string(values[2]) + " is negative");
+  return {values[0], values[1], values[2]};
+}
+
 int run_render(const RenderArgs& a) {
   std::vector<SkinningMethod> methods{SkinningMethod::lbs, SkinningMethod::dqs, SkinningMethod::cor};
   if (a.method != "all") methods = {method_named(a.method)};
@@ -38,13 +73,8 @@ int run_render(const RenderArgs& a) {
   if (!a.window && lowercase_extension(a.output) != ".png") throw Failure("--out must name a .png file (or use --window)");
   const int width = a.width > 0 ? a.width : (methods.size() > 1 ? 1200 : 800);
   const int height = a.height > 0 ? a.height : (methods.size() > 1 ? 400 : 600);
-  double yaw = 35, pitch = 20, distance = 0;
-  if (!a.camera.empty()) {
-    char extra = 0;
-    const int n = std::sscanf(a.camera.c_str(), "%lf,%lf,%lf%c", &yaw, &pitch, &distance, &extra);
-    if (n < 2 || n > 3 || !std::isfinite(yaw) || !std::isfinite(pitch) || !std::isfinite(distance) || distance < 0)
-      throw Failure("--camera must be 'yaw,pitch' or 'yaw,pitch,distance' (degrees, degrees, model units; 0 or none: the distance that frames the animation), got '" + a.camera + "'");
-  }
+  const CameraAngles view = a.camera.empty() ? CameraAngles{} : parse_camera(a.camera);
+  const double yaw = view.yaw, pitch = view.pitch, distance = view.distance;
   // The times to draw; a sequence writes NAME_0000.png, NAME_0001.png, ...
   std::vector<double> times{a.model.time};
   if (a.until) {
@@ -109,6 +139,7 @@ int run_render(const RenderArgs& a) {
   if (!renderer) throw Failure(renderer.error().message);
   // LBS red, DQS blue, CoR green (the order of SkinningMethod).
   const render::Color colors[] = {{0.85f, 0.45f, 0.35f, 1}, {0.35f, 0.55f, 0.85f, 1}, {0.40f, 0.72f, 0.42f, 1}};
+  const char* const names[] = {"LBS", "DQS", "COR"};
   render::Scene drawn;
   drawn.meshes.resize(1);
   drawn.meshes[0].triangles = frame.triangles;
@@ -134,6 +165,11 @@ int run_render(const RenderArgs& a) {
             bones.points.push_back({float(c.x), float(c.y), float(c.z)});
           }
         drawn.lines.push_back(std::move(bones));
+      }
+      if (methods.size() > 1) {  // side by side, each view says which method it shows
+        render::Lines caption{{}, {0.1f, 0.1f, 0.1f, 1}, true};
+        render::add_overlay_text(caption, camera, aspect, names[static_cast<int>(methods[k])], -0.92, 0.82, 0.09);
+        drawn.lines.push_back(std::move(caption));
       }
       renderer->draw(drawn, camera, viewports[k]);
     }

@@ -118,9 +118,10 @@ struct WindowInput {
 
 /// Mouse orbit, for a window's camera: a left-button drag turns it by `orbit_radians_per_pixel` per
 /// pixel (dragging right turns the model right: yaw decreases; dragging down lowers the far side:
-/// pitch increases, kept within ±1.5), each wheel step away from the user brings it 10% nearer (the
-/// near and far planes move with it). The target and field of view stay.
+/// pitch increases, kept within ±orbit_max_pitch), each wheel step away from the user brings it 10%
+/// nearer (the near and far planes move with it). The target and field of view stay.
 inline constexpr double orbit_radians_per_pixel = 0.01;
+inline constexpr double orbit_max_pitch = 1.5;  ///< radians (86°): at ±90° the view's up is undefined
 void orbit(Camera& camera, const WindowInput& input);
 
 struct RenderOptions {

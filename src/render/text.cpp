@@ -1,10 +1,10 @@
-#include "dq/demo/glyphs.hpp"
+#include "dq/render/text.hpp"
 
 #include <cctype>
 #include <cmath>
 #include <string_view>
 
-namespace dq::demo {
+namespace dq::render {
 namespace {
 
 // Each glyph: polylines separated by spaces, each a sequence of points given as two digits
@@ -86,4 +86,21 @@ void add_text(std::vector<Vec3<float>>& segments, std::string_view text, const V
 
 double text_width(std::string_view text, double height) { return double(text.size()) * advance * height / 6; }
 
-}  // namespace dq::demo
+Vec3<double> overlay_point(const Camera& c, double aspect, double u, double v) {
+  const Vec3<double> forward = normalized(c.target - c.eye());
+  const Vec3<double> right = normalized(cross(forward, {0, 1, 0}));
+  const Vec3<double> up = cross(right, forward);
+  const double half = c.distance * std::tan(c.fov_y / 2);
+  return c.target + right * (u * half * aspect) + up * (v * half);
+}
+
+void add_overlay_text(Lines& lines, const Camera& c, double aspect, std::string_view text, double u, double v, double height) {
+  const Vec3<double> origin = overlay_point(c, aspect, u, v);
+  const Vec3<double> right = overlay_point(c, aspect, u + 1, v) - origin, up = overlay_point(c, aspect, u, v + 1) - origin;
+  double world_height = height * norm(up);
+  const double room = (0.95 - u) * norm(right), width = text_width(text, world_height);
+  if (width > room && width > 0) world_height *= room / width;
+  add_text(lines.points, text, origin, right, up, world_height);
+}
+
+}  // namespace dq::render
