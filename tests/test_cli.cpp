@@ -129,6 +129,14 @@ TEST_F(Cli, BadArgumentsAndFilesGiveClearErrors) {
   r = run("info /nonexistent.gltf");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("/nonexistent.gltf: no such file"), std::string::npos) << r.err;
+  // A file without animations has only animation 0, its rest pose: 7 was ignored without a word.
+  const std::string still = std::string(DQKIT_ASSIMP_MODELS) + "/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
+  if (fs::exists(still)) {
+    r = run("fk " + still + " --animation 7");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("animation 7 requested, the file has 0"), std::string::npos) << r.err;
+    EXPECT_EQ(run("fk " + still + " --animation 0").code, 0);
+  }
 #endif
   // A file named .bvh that is not BVH (here empty) gets the BVH reader's error, not the importer's.
   std::ofstream(dir_ / "empty.bvh").flush();

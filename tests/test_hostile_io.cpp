@@ -20,6 +20,7 @@
 #include "dq/io/file.hpp"
 #include "cli.hpp"
 #include "dq/io/motion.hpp"
+#include "dq/util/assert.hpp"
 
 namespace {
 
@@ -237,6 +238,25 @@ TEST(Hostile, ConvertersWriteOnlyWhatReadsBack) {
   ASSERT_FALSE(zxz);
   EXPECT_NE(zxz.error().message.find("ZXZ repeats an axis"), std::string::npos) << zxz.error().message;
   EXPECT_FALSE(with_rotation_order(*b, EulerOrder::XYX));
+  // Another character's animation: an error, where the writer read past the animation's joints.
+  Animation two_joints;
+  two_joints.frame_count = 2, two_joints.joint_count = 2, two_joints.frame_time = 0.1;
+  two_joints.locals.assign(4, DualQuaternion<double>{});
+  const Expected<BvhFile> mismatch = to_bvh(*s, two_joints, EulerOrder::ZXY);
+  ASSERT_FALSE(mismatch);
+  EXPECT_EQ(mismatch.error().message, "the animation has 2 joints (4 transforms), the skeleton 3: they are not one character's");
+  // bvh_animation needs the file's own skeleton, and bvh_local_transform a joint and frame of it.
+  EXPECT_TRUE(is_skeleton_of(*bvh_skeleton(*b), *b));
+  EXPECT_FALSE(is_skeleton_of(*s, *b));  // the same joints under other names ("left arm" became "left_arm_2")
+  int violations = 0;
+  static int* counter = nullptr;
+  counter = &violations;
+  const PreconditionHandler previous = set_precondition_handler([](const PreconditionViolation&) { ++*counter; });
+  EXPECT_EQ(bvh_animation(*b, *s).frame_count, 0u);
+  EXPECT_EQ(bvh_local_transform(*b, 3, 0), DualQuaternion<double>{});
+  EXPECT_EQ(bvh_local_transform(*b, 0, 1), DualQuaternion<double>{});
+  set_precondition_handler(previous);
+  EXPECT_EQ(violations, 3);
 }
 
 TEST(Hostile, ResamplingEndsOnTheLastKey) {

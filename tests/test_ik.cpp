@@ -327,6 +327,23 @@ TEST(IkSolver, InvalidInputIsAnErrorAndLeavesQUntouched) {
   const std::vector<IkTask> too_many(kIkMaxTasks + 1, bad);
   EXPECT_EQ(solver.solve(too_many, q).status, IkStatus::invalid_input);
   EXPECT_EQ(q, before);
+  // Options out of range: a negative iteration count returned iteration_limit without a word.
+  const IkTask reachable = IkTask::reach(7, {0.3, 0.2, 0.5});
+  for (const auto& [change, what] : std::initializer_list<std::pair<void (*)(IkOptions&), const char*>>{
+           {[](IkOptions& o) { o.max_iterations = -1; }, "max_iterations"},
+           {[](IkOptions& o) { o.max_restarts = -1; }, "max_restarts"},
+           {[](IkOptions& o) { o.position_tolerance = std::nan(""); }, "tolerances"},
+           {[](IkOptions& o) { o.initial_damping = 0; }, "initial_damping"},
+           {[](IkOptions& o) { o.rest_weight = -1; }, "rest_weight"},
+           {[](IkOptions& o) { o.method = static_cast<IkMethod>(7); }, "method"}}) {
+    IkOptions options;
+    change(options);
+    IkSolver with(arm, options);
+    const IkResult r = with.solve(std::span(&reachable, 1), q);
+    EXPECT_EQ(r.status, IkStatus::invalid_input) << what;
+    EXPECT_NE(std::string(r.message).find(what), std::string::npos) << r.message;
+    EXPECT_EQ(q, before) << what;
+  }
 }
 
 TEST(IkSolver, TargetsFromFloatDataAndAxesOfAnyLengthAreNormalized) {
@@ -628,7 +645,18 @@ TEST(MotionCapture, FixFeetPinsContactsAndLeavesTheRestExactly) {
   BvhFile copy = *original;
   FixFeetOptions named;
   named.feet = {"NoSuchToe"};
-  EXPECT_FALSE(fix_foot_sliding(copy, named));
+  const Expected<FixFeetReport> unknown = fix_foot_sliding(copy, named);
+  ASSERT_FALSE(unknown);
+  EXPECT_EQ(unknown.error().message, "no joint named 'NoSuchToe' for a foot");  // the library's words, not a CLI flag
+  // Options out of range are errors, and the file is untouched.
+  for (const auto& change : std::initializer_list<void (*)(FixFeetOptions&)>{
+           [](FixFeetOptions& o) { o.height = std::nan(""); }, [](FixFeetOptions& o) { o.speed = HUGE_VAL; },
+           [](FixFeetOptions& o) { o.min_contact_frames = 0; }, [](FixFeetOptions& o) { o.blend_frames = -1; }}) {
+    FixFeetOptions options;
+    change(options);
+    EXPECT_FALSE(fix_foot_sliding(copy, options));
+    EXPECT_EQ(copy.motion, original->motion);
+  }
 }
 
 }  // namespace

@@ -159,13 +159,34 @@ TEST_F(Isolation, TheWorkerIsFoundOrTheErrorSaysWhere) {
   EXPECT_NE(message(import_scene(dir_ / "model.gltf")).find("(from DQKIT_IMPORT_WORKER)"), std::string::npos);
 }
 
+/// A glTF whose buffer is a FIFO that nobody writes: opening it blocks Assimp in the real worker
+/// (a FIFO given as the file itself is refused before any worker starts).
+fs::path stuck_gltf(const fs::path& dir) {
+  std::ofstream(dir / "stuck.gltf") << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}], "buffers": [{"uri": "stuck.bin", "byteLength": 36}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "max": [1, 1, 1], "min": [0, 0, 0]}]})";
+  EXPECT_EQ(::mkfifo((dir / "stuck.bin").c_str(), 0600), 0);
+  return dir / "stuck.gltf";
+}
+
 TEST_F(Isolation, ARealWorkerStuckInTheFileIsStoppedAtTheDeadline) {
-  // Opening a FIFO nobody writes blocks Assimp, in the real worker, until the deadline.
-  const fs::path fifo = dir_ / "stuck.gltf";
-  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   ImportOptions options;
   options.timeout_seconds = 0.5;
-  EXPECT_NE(message(import_scene(fifo, options)).find("stuck.gltf: the importer did not finish within 0.5"), std::string::npos);
+  EXPECT_NE(message(import_scene(stuck_gltf(dir_), options)).find("stuck.gltf: the importer did not finish within 0.5"), std::string::npos);
+}
+
+TEST_F(Isolation, AFifoOrDeviceIsRefusedWithoutWaiting) {
+  // A FIFO held the worker until the deadline (120 s by default) before it was refused up front.
+  const fs::path fifo = dir_ / "fifo.gltf";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_NE(message(import_scene(fifo)).find("fifo.gltf: is not a regular file"), std::string::npos);
+  EXPECT_NE(message(import_scene("/dev/zero")).find("/dev/zero: is not a regular file"), std::string::npos);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
+  ImportOptions options;
+  options.timeout_seconds = 0;
+  EXPECT_NE(message(import_scene(dir_ / "model.gltf", options)).find("timeout_seconds must be positive"), std::string::npos);
 }
 
 /// The state letter of a process (R, S, Z, ...), or nothing once it is gone.
@@ -195,11 +216,9 @@ pid_t child_of(pid_t parent) {
 }
 
 TEST_F(Isolation, WorkerDiesWithItsParent) {
-  // The parent imports a FIFO (its worker hangs opening it) and is killed with SIGKILL: no
-  // orphan may remain.
-  const fs::path fifo = dir_ / "stuck.gltf";
-  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  std::string program = DQKIT_IMPORT_PARENT, file = fifo.string();
+  // The parent imports a glTF whose buffer is a FIFO (its worker hangs opening it) and is killed
+  // with SIGKILL: no orphan may remain.
+  std::string program = DQKIT_IMPORT_PARENT, file = stuck_gltf(dir_).string();
   char* argv[] = {program.data(), file.data(), nullptr};
   pid_t parent = -1;
   ASSERT_EQ(::posix_spawn(&parent, program.c_str(), nullptr, nullptr, argv, environ), 0);

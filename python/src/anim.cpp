@@ -2,6 +2,7 @@
 // motion files, model import.
 #include <pybind11/stl/filesystem.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "batch.hpp"
@@ -26,12 +27,8 @@ std::vector<int> parents_of(py::handle obj) {
     const auto p = obj.cast<const dq::Skeleton&>().parents();
     return {p.begin(), p.end()};
   }
-  const py::array any = py::array::ensure(obj);
-  if (!any || any.ndim() != 1) throw py::value_error("parents: expected a Skeleton or a sequence of J ints, shape (J,)");
-  if (any.size() > 0 && any.dtype().kind() != 'i')  // never a silent truncation of 0.7 to 0; −1 needs a signed type
-    throw py::value_error("parents: expected signed integers (−1 marks a root), got dtype " + py::str(any.dtype()).cast<std::string>());
   // Checked in 64 bits before narrowing, so that 2**40 is not read as another parent.
-  const auto values = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(any);
+  const auto values = as_integers(obj, 1, "parents: expected a Skeleton or J signed integers (−1 marks a root), shape (J,)", true);
   std::vector<int> p(static_cast<std::size_t>(values.size()));
   for (std::size_t j = 0; j < p.size(); ++j) {
     const std::int64_t v = values.data()[j];
@@ -41,6 +38,19 @@ std::vector<int> parents_of(py::handle obj) {
     p[j] = static_cast<int>(v);
   }
   return p;
+}
+
+/// A joint index as Python takes one: −1 is the last joint; IndexError outside the skeleton.
+std::size_t joint_index(const dq::Skeleton& s, py::ssize_t j) {
+  const auto n = static_cast<py::ssize_t>(s.size());
+  if (j < -n || j >= n) throw py::index_error("joint " + std::to_string(j) + " of a skeleton of " + std::to_string(n) + " joints");
+  return static_cast<std::size_t>(j < 0 ? j + n : j);
+}
+
+/// A frame time as the library reads one: a positive number of seconds.
+double frame_time_checked(double t) {
+  if (!(t > 0 && std::isfinite(t))) throw py::value_error("frame_time: expected a positive number of seconds, got " + py::str(py::float_(t)).cast<std::string>());
+  return t;
 }
 
 void bind_skeleton(py::module_& m) {
@@ -54,12 +64,15 @@ void bind_skeleton(py::module_& m) {
            "build_skeleton(raw); raises ReadError naming the joint when invalid.")
       .def("__len__", &dq::Skeleton::size)
       .def("size", &dq::Skeleton::size)
-      .def_property_readonly("parents", [](const dq::Skeleton& s) { return py::array_t<int>(static_cast<py::ssize_t>(s.size()), s.parents().data()); })
+      .def_property_readonly("parents", [](const dq::Skeleton& s) {
+        return read_only(py::array_t<int>(static_cast<py::ssize_t>(s.size()), s.parents().data()));
+      }, "(J,) parent of each joint, −1 for a root (read-only).")
       .def_property_readonly("names", [](const dq::Skeleton& s) { return std::vector<std::string>(s.names().begin(), s.names().end()); })
       .def_property_readonly("rest_pose", [](const dq::Skeleton& s) {
-        return dual_quaternions_to_numpy(s.rest_pose(), {static_cast<py::ssize_t>(s.size()), 8});
-      }, "(J, 8) local rest transforms.")
-      .def("is_end_site", &dq::Skeleton::is_end_site, py::arg("j"))
+        return read_only(dual_quaternions_to_numpy(s.rest_pose(), {static_cast<py::ssize_t>(s.size()), 8}));
+      }, "(J, 8) local rest transforms (read-only).")
+      .def("is_end_site", [](const dq::Skeleton& s, py::ssize_t j) { return s.is_end_site(joint_index(s, j)); }, py::arg("j"),
+           "Whether joint j is a leaf without animation channels (a BVH End Site).")
       .def("find", &dq::Skeleton::find, py::arg("name"), "The joint's index, or −1 (as str.find; index() raises instead).")
       .def("index", [](const dq::Skeleton& s, const std::string& name) {
         const int j = s.find(name);
@@ -67,34 +80,37 @@ void bind_skeleton(py::module_& m) {
         return j;
       }, py::arg("name"), "The joint's index; KeyError if there is none (safe as a NumPy index, where −1 is the last joint).")
       .def("__contains__", [](const dq::Skeleton& s, const std::string& name) { return s.find(name) >= 0; }, py::arg("name"))
-      .def("subtree_end", &dq::Skeleton::subtree_end, py::arg("j"), "One past the last joint of j's subtree.")
+      .def("subtree_end", [](const dq::Skeleton& s, py::ssize_t j) { return s.subtree_end(joint_index(s, j)); }, py::arg("j"),
+           "One past the last joint of j's subtree.")
       .def("__repr__", [](const dq::Skeleton& s) { return "Skeleton(" + std::to_string(s.size()) + " joints)"; });
   m.def("build_skeleton", [](const dq::RawSkeleton& raw) { return unwrap(dq::build_skeleton(raw)); }, py::arg("raw"));
 
-  py::enum_<dq::Interpolation>(m, "Interpolation")
+  Enum<dq::Interpolation>(m, "Interpolation")
       .value("screw", dq::Interpolation::screw)
       .value("dual_quaternion_linear", dq::Interpolation::dual_quaternion_linear)
       .value("decoupled", dq::Interpolation::decoupled)
       .value("matrix", dq::Interpolation::matrix);
-  py::enum_<dq::WrapMode>(m, "WrapMode").value("clamp", dq::WrapMode::clamp).value("loop", dq::WrapMode::loop);
+  Enum<dq::WrapMode>(m, "WrapMode").value("clamp", dq::WrapMode::clamp).value("loop", dq::WrapMode::loop);
   py::class_<dq::Animation>(m, "Animation", "Local joint transforms per frame, frame-major.")
       .def(py::init([](py::handle locals, double frame_time) {
-             auto a = as_float64(locals, {-1, -1, 8}, "locals (F, J, 8)");
+             auto a = as_float64(locals, {-1, -1, 8}, "locals", {"F", "J"});
              dq::Animation anim;
-             anim.frame_time = frame_time;
+             anim.frame_time = frame_time_checked(frame_time);
              anim.frame_count = static_cast<std::size_t>(a.shape(0));
              anim.joint_count = static_cast<std::size_t>(a.shape(1));
              anim.locals = dual_quaternions_from_numpy(a.reshape({a.shape(0) * a.shape(1), py::ssize_t{8}}), "locals");
              return anim;
            }),
            py::arg("locals"), py::arg("frame_time"))
-      .def_readwrite("frame_time", &dq::Animation::frame_time)
+      .def_property("frame_time", [](const dq::Animation& a) { return a.frame_time; },
+                    [](dq::Animation& a, double t) { a.frame_time = frame_time_checked(t); }, "Seconds per frame (positive).")
       .def_readonly("frame_count", &dq::Animation::frame_count)
       .def_readonly("joint_count", &dq::Animation::joint_count)
       .def("duration", &dq::Animation::duration)
       .def_property_readonly("locals", [](const dq::Animation& a) {
-        return dual_quaternions_to_numpy(a.locals, {static_cast<py::ssize_t>(a.frame_count), static_cast<py::ssize_t>(a.joint_count), 8});
-      }, "(F, J, 8) local transforms (a copy).")
+        return read_only(
+            dual_quaternions_to_numpy(a.locals, {static_cast<py::ssize_t>(a.frame_count), static_cast<py::ssize_t>(a.joint_count), 8}));
+      }, "(F, J, 8) local transforms (a read-only copy; make a new Animation to change them).")
       .def("__repr__", [](const dq::Animation& a) {
         return "Animation(" + std::to_string(a.frame_count) + " frames, " + std::to_string(a.joint_count) + " joints)";
       });
@@ -134,7 +150,7 @@ void bind_skeleton(py::module_& m) {
 }
 
 void bind_files(py::module_& m) {
-  py::enum_<dq::BvhChannel>(m, "BvhChannel")
+  Enum<dq::BvhChannel>(m, "BvhChannel")
       .value("Xposition", dq::BvhChannel::Xposition).value("Yposition", dq::BvhChannel::Yposition)
       .value("Zposition", dq::BvhChannel::Zposition).value("Xrotation", dq::BvhChannel::Xrotation)
       .value("Yrotation", dq::BvhChannel::Yrotation).value("Zrotation", dq::BvhChannel::Zrotation);
@@ -183,8 +199,19 @@ void bind_files(py::module_& m) {
   m.def("with_rotation_order", [](const dq::BvhFile& b, dq::EulerOrder o) { return unwrap(dq::with_rotation_order(b, o)); },
         py::arg("bvh"), py::arg("order"));
   m.def("bvh_skeleton", [](const dq::BvhFile& b) { return unwrap(dq::bvh_skeleton(b)); }, py::arg("bvh"));
-  m.def("bvh_animation", &dq::bvh_animation, py::arg("bvh"), py::arg("skeleton"), "Every frame's local transforms.");
-  m.def("bvh_local_transform", &dq::bvh_local_transform, py::arg("bvh"), py::arg("joint"), py::arg("frame"));
+  m.def("bvh_animation", [](const dq::BvhFile& b, const dq::Skeleton& s) {
+    if (!dq::is_skeleton_of(s, b))
+      throw py::value_error("skeleton: not the skeleton of this BVH file (" + std::to_string(s.size()) + " joints against its " +
+                            std::to_string(b.joints.size()) + ", or other names): use bvh_skeleton(bvh)");
+    return dq::bvh_animation(b, s);
+  }, py::arg("bvh"), py::arg("skeleton"), "Every frame's local transforms; `skeleton` is bvh_skeleton(bvh).");
+  m.def("bvh_local_transform", [](const dq::BvhFile& b, py::ssize_t joint, py::ssize_t frame) {
+    if (joint < 0 || static_cast<std::size_t>(joint) >= b.joints.size())
+      throw py::index_error("joint " + std::to_string(joint) + " of a file of " + std::to_string(b.joints.size()) + " joints");
+    if (frame < 0 || static_cast<std::size_t>(frame) >= b.frame_count)
+      throw py::index_error("frame " + std::to_string(frame) + " of a file of " + std::to_string(b.frame_count) + " frames");
+    return dq::bvh_local_transform(b, static_cast<std::size_t>(joint), static_cast<std::size_t>(frame));
+  }, py::arg("bvh"), py::arg("joint"), py::arg("frame"), "The local transform of a joint (index into BvhFile.joints) in a frame.");
   m.def("to_bvh", [](const dq::Skeleton& s, const dq::Animation& a, dq::EulerOrder o) { return unwrap(dq::to_bvh(s, a, o)); },
         py::arg("skeleton"), py::arg("animation"), py::arg("order") = dq::EulerOrder::ZXY);
 
@@ -224,11 +251,11 @@ void bind_import(py::module_& m) {
   py::class_<dq::ImportedMesh>(m, "ImportedMesh")
       .def_readonly("name", &dq::ImportedMesh::name)
       .def_property_readonly("positions", [](const dq::ImportedMesh& me) {
-        return py::array_t<float>({static_cast<py::ssize_t>(me.positions.size()), py::ssize_t{3}}, &me.positions.data()->x);
-      }, "(V, 3) float32 bind-pose positions (a copy).")
+        return read_only(py::array_t<float>({static_cast<py::ssize_t>(me.positions.size()), py::ssize_t{3}}, &me.positions.data()->x));
+      }, "(V, 3) float32 bind-pose positions (a read-only copy).")
       .def_property_readonly("triangles", [](const dq::ImportedMesh& me) {
-        return py::array_t<std::uint32_t>({static_cast<py::ssize_t>(me.indices.size() / 3), py::ssize_t{3}}, me.indices.data());
-      })
+        return read_only(py::array_t<std::uint32_t>({static_cast<py::ssize_t>(me.indices.size() / 3), py::ssize_t{3}}, me.indices.data()));
+      }, "(T, 3) vertex indices (a read-only copy).")
       .def_readonly("bone_joints", &dq::ImportedMesh::bone_joints)
       .def_readonly("node_joint", &dq::ImportedMesh::node_joint);
   py::class_<dq::ImportedAnimation>(m, "ImportedAnimation")

@@ -53,6 +53,8 @@ template <class T>
 using RowMajor4 = RowMajor<T, 4, 4>;
 template <class T>
 using RowMajor3 = RowMajor<T, 3, 3>;
+template <class T>
+using RowMajor34 = RowMajor<T, 3, 4>;
 
 const std::vector<const char*> dq_shape{"N", "8"}, q_shape{"N", "4"}, p_shape{"N", "3"}, t_shape{"N"};
 
@@ -158,6 +160,8 @@ void bind_interpolation(py::module_& m) {
 }  // namespace
 
 py::array from_matrix_rows(const py::array& matrices) {
+  if (matrices.ndim() == 3 && matrices.shape(1) == 3)
+    return map1<RowMajor34, DQ>(matrices, "matrix", {"N", "3", "4"}, {8}, [](const auto& x) { return dq::from_matrix(from_row_major(x)); });
   return map1<RowMajor4, DQ>(matrices, "matrix", {"N", "4", "4"}, {8}, [](const auto& x) { return dq::from_matrix(from_row_major(x)); });
 }
 

@@ -54,15 +54,25 @@ py::array map2(py::handle a, py::handle b, const char* na, const char* nb, const
   });
 }
 
+/// The t of an interpolation as batch_input takes it: an ndarray of one or more dimensions (its
+/// dtype must match the call's) or a list or tuple as given; a number (Python, NumPy, or a 0-d
+/// array) as a 0-d array of the call's dtype; anything else a TypeError.
+template <class T>
+py::object interpolation_parameter(const py::object& t) {
+  if ((py::isinstance<py::array>(t) && py::array(t).ndim() > 0) || PyList_Check(t.ptr()) || PyTuple_Check(t.ptr())) return t;
+  if (py::isinstance<py::str>(t) || !PyNumber_Check(t.ptr()))
+    throw py::type_error("t: expected a number or an (N,) array of numbers, got " + py::str(py::type::of(t).attr("__name__")).cast<std::string>());
+  const T value = static_cast<T>(py::float_(t).cast<double>());
+  return py::array_t<T>(std::vector<py::ssize_t>{}, &value);
+}
+
 /// out[i] = f(a[i], b[i], t[i]) with t a number or an (N,) array.
 template <template <class> class A, template <class> class B, template <class> class R, class F>
 py::array map3(py::handle a, py::handle b, const py::object& t, const char* na, const char* nb,
                const std::vector<const char*>& sa, const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f) {
   return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
     const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);
-    // A Python number takes the call's dtype; an ndarray t must match it.
-    const BatchInput it = batch_input(py::isinstance<py::array>(t) ? t : py::object(py::array_t<T>(std::vector<py::ssize_t>{}, std::vector<T>{t.cast<T>()}.data())),
-                                      {"N"}, dtype_of_v<T>, "t", true);
+    const BatchInput it = batch_input(interpolation_parameter<T>(t), {"N"}, dtype_of_v<T>, "t", true);
     const std::size_t n = broadcast_count({{&ia, na}, {&ib, nb}, {&it, "t"}});
     const std::size_t da = ia.count == 1 ? 0 : 1, db = ib.count == 1 ? 0 : 1, dt = it.count == 1 ? 0 : 1;
     py::array_t<T> out(out_shape(ia.single && ib.single && it.single, n, tail));

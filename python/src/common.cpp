@@ -20,22 +20,50 @@ std::string shape_text(const std::vector<const char*>& dims) {
   return s + (dims.size() == 1 ? ",)" : ")");
 }
 
-py::array_t<double, py::array::c_style | py::array::forcecast> as_float64(py::handle obj, std::vector<py::ssize_t> shape,
-                                                                           const char* what) {
-  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
-  if (!a) {
-    throw py::value_error(std::string(what) + ": expected numbers convertible to float64");
+template <class T>
+py::array_t<T, py::array::c_style | py::array::forcecast> contiguous(py::handle obj, const char* what) {
+  // Through NumPy itself rather than array_t::ensure, which returns null for any failure and
+  // clears the reason: a MemoryError (a broadcast view of 10^11 rows) stays a MemoryError, and a
+  // value that is not a number says which.
+  try {
+    py::object a = py::module_::import("numpy").attr("asarray")(obj, py::dtype::of<T>(), py::arg("order") = "C");
+    return py::reinterpret_steal<py::array_t<T, py::array::c_style | py::array::forcecast>>(a.release());
+  } catch (py::error_already_set& e) {
+    if (e.matches(PyExc_MemoryError)) throw;
+    throw py::value_error(std::string(what) + ": expected numbers convertible to " +
+                          (std::is_same_v<T, float> ? "float32" : "float64") + " (" + py::str(e.value()).cast<std::string>() + ")");
   }
+}
+
+py::array_t<double, py::array::c_style | py::array::forcecast> as_float64(py::handle obj, std::vector<py::ssize_t> shape,
+                                                                           const char* what, std::vector<const char*> names) {
+  auto a = contiguous<double>(obj, what);
   bool ok = a.ndim() == static_cast<py::ssize_t>(shape.size());
   for (std::size_t i = 0; ok && i < shape.size(); ++i) ok = shape[i] < 0 || a.shape(static_cast<py::ssize_t>(i)) == shape[i];
   if (!ok) {
     std::vector<std::string> extents;
-    for (const auto e : shape) extents.push_back(e < 0 ? "N" : std::to_string(e));
+    std::size_t named = 0;
+    for (const auto e : shape) extents.push_back(e >= 0 ? std::to_string(e) : named < names.size() ? names[named++] : "N");
     std::vector<const char*> dims;
     for (const auto& e : extents) dims.push_back(e.c_str());
     throw py::value_error(std::string(what) + ": expected shape " + shape_text(dims) + ", got " + shape_of(a));
   }
   return a;
+}
+
+py::array_t<std::int64_t, py::array::c_style> as_integers(py::handle obj, int ndim, const std::string& what, bool signed_only) {
+  py::array any;
+  try {
+    any = py::module_::import("numpy").attr("asarray")(obj);
+  } catch (py::error_already_set& e) {
+    if (e.matches(PyExc_MemoryError)) throw;
+    throw py::value_error(what + " (" + py::str(e.value()).cast<std::string>() + ")");
+  }
+  if (any.ndim() != ndim) throw py::value_error(what + ", got shape " + shape_of(any));
+  const std::string kind = any.attr("dtype").attr("kind").cast<std::string>();
+  if (any.size() > 0 && kind != "i" && (signed_only || kind != "u")) throw py::value_error(what + ", got dtype " + py::str(any.dtype()).cast<std::string>());
+  return py::reinterpret_steal<py::array_t<std::int64_t, py::array::c_style>>(
+      py::module_::import("numpy").attr("ascontiguousarray")(any, py::dtype::of<std::int64_t>()).release());
 }
 
 Dtype call_dtype(py::handle first, const char* name) {
@@ -58,8 +86,7 @@ BatchInput batch_input(py::handle obj, const std::vector<const char*>& dims, Dty
   if (py::isinstance<py::array>(obj) && dtype_of(a, name) != dtype)
     throw py::value_error(std::string(name) + ": dtype " + py::str(a.dtype()).cast<std::string>() +
                           " does not match the other inputs' " + (dtype == Dtype::f32 ? "float32" : "float64"));
-  py::array c = dtype == Dtype::f32 ? py::array(py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a))
-                                    : py::array(py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a));
+  py::array c = dtype == Dtype::f32 ? py::array(contiguous<float>(a, name)) : py::array(contiguous<double>(a, name));
   // Rows are read as dq::DualQuaternion<T> etc.: an unaligned buffer (np.frombuffer at an odd
   // offset) is copied into an aligned one first.
   if (!(py::detail::array_proxy(c.ptr())->flags & py::detail::npy_api::NPY_ARRAY_ALIGNED_)) c = c.attr("copy")();

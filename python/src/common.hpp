@@ -76,10 +76,39 @@ py::array_t<double> mat_to_numpy(const dq::Mat<double, R, C>& m) {
   return a;
 }
 
-/// A dense float64 copy of `obj` with exactly `shape` (−1: any extent), else ValueError naming
-/// the expected shape.
+/// A dense float64 copy of `obj` with exactly `shape` (−1: any extent, named in the error by
+/// `names`, in order, else "N"), else ValueError naming the expected shape. A MemoryError stays one.
 py::array_t<double, py::array::c_style | py::array::forcecast> as_float64(py::handle obj, std::vector<py::ssize_t> shape,
-                                                                           const char* what);
+                                                                           const char* what, std::vector<const char*> names = {});
+/// A dense int64 copy of an array of integers (booleans and floats refused: never a silent
+/// truncation of 0.7 to 0; unsigned ones too where `signed_only`), of `ndim` dimensions, else
+/// ValueError saying what `what` expects.
+py::array_t<std::int64_t, py::array::c_style> as_integers(py::handle obj, int ndim, const std::string& what, bool signed_only = false);
+
+/// `a`, made read-only: a property that returns a copy says so by refusing element assignment
+/// (anim.locals[0, 0, 0] = 1 would change the copy alone, silently).
+inline py::array read_only(py::array a) {
+  a.attr("setflags")(py::arg("write") = false);
+  return a;
+}
+
+/// py::enum_ whose constructor refuses an integer that names no member: pybind11's takes any
+/// (EulerOrder(99) would reach the library as a value outside the enumeration).
+template <class E>
+class Enum : public py::enum_<E> {
+ public:
+  template <class... Extra>
+  Enum(const py::handle& scope, const char* name, const Extra&... extra) : py::enum_<E>(scope, name, extra...) {
+    py::delattr(*this, "__init__");
+    this->def(py::init([](std::underlying_type_t<E> value) {
+      const py::object enum_type = py::type::of<E>();
+      for (const auto& member : enum_type.attr("__members__").template cast<py::dict>())
+        if (member.second.template cast<E>() == static_cast<E>(value)) return static_cast<E>(value);
+      throw py::value_error(std::to_string(value) + " is not a " + enum_type.attr("__name__").template cast<std::string>() + " (its members: " +
+                            py::str(py::list(enum_type.attr("__members__").attr("keys")())).template cast<std::string>() + ")");
+    }), py::arg("value"));
+  }
+};
 
 template <int R, int C>
 dq::Mat<double, R, C> mat_from_numpy(py::handle obj) {
@@ -174,7 +203,13 @@ struct type_caster<dq::Vec3<double>> {
     value = {a.at(0), a.at(1), a.at(2)};
     return true;
   }
-  static handle cast(const dq::Vec3<double>& v, return_value_policy, handle) { return dqpy::vec_to_numpy(v).release(); }
+  // A field read through a property (def_readwrite, def_readonly: a reference policy) comes back
+  // read-only, so that task.point[0] = 1 fails instead of changing a copy; results are writable.
+  static handle cast(const dq::Vec3<double>& v, return_value_policy policy, handle) {
+    py::array a = dqpy::vec_to_numpy(v);
+    if (policy == return_value_policy::reference_internal || policy == return_value_policy::reference) dqpy::read_only(a);
+    return a.release();
+  }
 };
 }  // namespace pybind11::detail
 

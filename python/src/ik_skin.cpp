@@ -25,7 +25,7 @@ std::span<double> inout_vector(py::array& a, std::size_t n, const char* name) {
 }
 
 void bind_ik_types(py::module_& m) {
-  py::enum_<dq::DofType>(m, "DofType")
+  Enum<dq::DofType>(m, "DofType")
       .value("revolute", dq::DofType::revolute).value("prismatic", dq::DofType::prismatic)
       .value("ball", dq::DofType::ball).value("free", dq::DofType::free);
   py::class_<dq::Dof>(m, "Dof", "A degree of freedom of a joint (revolute/prismatic about an axis of any non-zero length, normalized by KinematicModel.build; ball: 3, free: 6 parameters).")
@@ -61,7 +61,7 @@ void bind_ik_types(py::module_& m) {
     return dual_quaternions_to_numpy(world, {static_cast<py::ssize_t>(world.size()), 8});
   }, py::arg("model"), py::arg("q"), "(J, 8) world transforms of the joints for parameters q.");
 
-  py::enum_<dq::TaskKind>(m, "TaskKind")
+  Enum<dq::TaskKind>(m, "TaskKind")
       .value("position", dq::TaskKind::position).value("orientation", dq::TaskKind::orientation)
       .value("pose", dq::TaskKind::pose).value("aim", dq::TaskKind::aim).value("point_on_line", dq::TaskKind::point_on_line);
   py::class_<dq::IkTask>(m, "IkTask", "A goal for one effector joint, with a weight and a priority level.")
@@ -75,7 +75,7 @@ void bind_ik_types(py::module_& m) {
       .def_static("rotation", &dq::IkTask::rotation, py::arg("joint"), py::arg("target"))
       .def_static("aim_at", &dq::IkTask::aim_at, py::arg("joint"), py::arg("local_axis"), py::arg("target"), py::arg("point") = Vd{})
       .def_static("onto_line", &dq::IkTask::onto_line, py::arg("joint"), py::arg("line_point"), py::arg("direction"), py::arg("point") = Vd{});
-  py::enum_<dq::IkMethod>(m, "IkMethod")
+  Enum<dq::IkMethod>(m, "IkMethod")
       .value("levenberg_marquardt", dq::IkMethod::levenberg_marquardt)
       .value("newton", dq::IkMethod::newton)
       .value("gauss_seidel", dq::IkMethod::gauss_seidel);
@@ -87,7 +87,7 @@ void bind_ik_types(py::module_& m) {
       .def_readwrite("orientation_tolerance", &dq::IkOptions::orientation_tolerance)
       .def_readwrite("initial_damping", &dq::IkOptions::initial_damping).def_readwrite("rest_weight", &dq::IkOptions::rest_weight)
       .def_readwrite("seed", &dq::IkOptions::seed).def_readwrite("max_rows", &dq::IkOptions::max_rows);
-  py::enum_<dq::IkStatus>(m, "IkStatus")
+  Enum<dq::IkStatus>(m, "IkStatus")
       .value("converged", dq::IkStatus::converged).value("unreachable", dq::IkStatus::unreachable)
       .value("iteration_limit", dq::IkStatus::iteration_limit).value("invalid_input", dq::IkStatus::invalid_input);
   py::class_<dq::IkResult>(m, "IkResult")
@@ -135,8 +135,9 @@ void bind_motion_capture(py::module_& m) {
       .def("to_parameters", [](const dq::BvhKinematics& k, py::handle frame) {
         const auto f = as_float64(frame, {-1}, "frame");
         py::array_t<double> q(static_cast<py::ssize_t>(k.channel_of.size()));
-        for (const std::size_t c : k.channel_of)
-          if (c >= static_cast<std::size_t>(f.shape(0))) throw py::value_error("frame: fewer values than the file's channels");
+        const std::size_t channels = k.channel_of.size();  // every channel of the file is a parameter
+        if (static_cast<std::size_t>(f.shape(0)) != channels)
+          throw py::value_error("frame: expected the file's " + std::to_string(channels) + " channel values, got " + std::to_string(f.shape(0)));
         k.to_parameters(std::span(f.data(), static_cast<std::size_t>(f.shape(0))), std::span(q.mutable_data(), k.channel_of.size()));
         return q;
       }, py::arg("frame"), "A frame's channel values (degrees, as in BvhFile.motion[f]) as model parameters (radians).");
@@ -161,9 +162,9 @@ void bind_motion_capture(py::module_& m) {
 }
 
 void bind_skin_types(py::module_& m) {
-  py::enum_<dq::SkinningMethod>(m, "SkinningMethod", "Linear blend, dual quaternion, or centre-of-rotation skinning.")
+  Enum<dq::SkinningMethod>(m, "SkinningMethod", "Linear blend, dual quaternion, or centre-of-rotation skinning.")
       .value("lbs", dq::SkinningMethod::lbs).value("dqs", dq::SkinningMethod::dqs).value("cor", dq::SkinningMethod::cor);
-  py::enum_<dq::WeightPolicy>(m, "WeightPolicy").value("normalize", dq::WeightPolicy::normalize).value("reject", dq::WeightPolicy::reject);
+  Enum<dq::WeightPolicy>(m, "WeightPolicy").value("normalize", dq::WeightPolicy::normalize).value("reject", dq::WeightPolicy::reject);
   py::class_<dq::SkinOptions>(m, "SkinOptions")
       .def(py::init<>())
       .def_readwrite("weights", &dq::SkinOptions::weights)
@@ -176,11 +177,12 @@ void bind_skin_types(py::module_& m) {
       .def_property_readonly("renormalized_vertices", &dq::Skin::renormalized_vertices);
   m.def("build_skin", [](py::handle positions, py::handle bones, py::handle weights, py::handle inverse_bind, py::object triangles,
                          const dq::SkinOptions& options) {
-    const auto p = as_float64(positions, {-1, 3}, "positions");
-    const auto b = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(bones);
-    const auto w = as_float64(weights, {p.shape(0), -1}, "weights");
-    if (!b || b.ndim() != 2 || b.shape(0) != w.shape(0) || b.shape(1) != w.shape(1))
-      throw py::value_error("bones: expected an int array of shape (V, K), the shape of weights");
+    const auto p = as_float64(positions, {-1, 3}, "positions", {"V"});
+    const auto w = as_float64(weights, {p.shape(0), -1}, "weights", {"K"});
+    const auto b = as_integers(bones, 2, "bones: expected integers of shape (V, K), the shape of weights");
+    if (b.shape(0) != w.shape(0) || b.shape(1) != w.shape(1))
+      throw py::value_error("bones: expected integers of shape (V, K), the shape of weights (" + std::to_string(w.shape(0)) + ", " +
+                            std::to_string(w.shape(1)) + "), got (" + std::to_string(b.shape(0)) + ", " + std::to_string(b.shape(1)) + ")");
     const auto ib = as_float64(inverse_bind, {-1, 4, 4}, "inverse_bind");
     dq::RawSkin raw;
     const auto vertices = static_cast<std::size_t>(p.shape(0)), slots = static_cast<std::size_t>(w.shape(1));
@@ -204,9 +206,14 @@ void bind_skin_types(py::module_& m) {
       raw.inverse_bind.push_back(mat);
     }
     if (!triangles.is_none()) {
-      const auto t = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(triangles);
-      if (!t || t.ndim() != 2 || t.shape(1) != 3) throw py::value_error("triangles: expected shape (T, 3)");
-      raw.triangles.assign(t.data(), t.data() + t.size());
+      const auto t = as_integers(triangles, 2, "triangles: expected vertex indices of shape (T, 3)");
+      if (t.shape(1) != 3) throw py::value_error("triangles: expected vertex indices of shape (T, 3), got (" + std::to_string(t.shape(0)) + ", " + std::to_string(t.shape(1)) + ")");
+      for (py::ssize_t i = 0; i < t.size(); ++i) {
+        const std::int64_t v = t.data()[i];
+        if (v < 0 || v >= p.shape(0))
+          throw py::value_error("triangles: triangle " + std::to_string(i / 3) + " names vertex " + std::to_string(v) + " of " + std::to_string(p.shape(0)));
+        raw.triangles.push_back(static_cast<std::uint32_t>(v));
+      }
     }
     dq::SkinOptions o = options;
     if (raw.triangles.empty()) o.centers_of_rotation = false;
@@ -247,12 +254,12 @@ void bind_skin_types(py::module_& m) {
         py::array_t<float> a({static_cast<py::ssize_t>(f.size()), py::ssize_t{3}});
         auto o = a.mutable_unchecked<2>();
         for (std::size_t v = 0; v < f.size(); ++v) o(v, 0) = f.px[v], o(v, 1) = f.py[v], o(v, 2) = f.pz[v];
-        return a;
-      }, "(V, 3) float32 positions (a copy).")
+        return read_only(a);
+      }, "(V, 3) float32 positions (a read-only copy).")
       .def_property_readonly("triangles", [](const dq::SkinnedFrame& f) {
-        return py::array_t<std::uint32_t>({static_cast<py::ssize_t>(f.triangles.size() / 3), py::ssize_t{3}}, f.triangles.data());
-      });
-  py::enum_<dq::MeshFormat>(m, "MeshFormat")
+        return read_only(py::array_t<std::uint32_t>({static_cast<py::ssize_t>(f.triangles.size() / 3), py::ssize_t{3}}, f.triangles.data()));
+      }, "(T, 3) vertex indices (a read-only copy).");
+  Enum<dq::MeshFormat>(m, "MeshFormat")
       .value("csv", dq::MeshFormat::csv).value("obj", dq::MeshFormat::obj).value("ply", dq::MeshFormat::ply).value("gltf", dq::MeshFormat::gltf);
   m.def("format_frame", [](const dq::SkinnedFrame& f, dq::MeshFormat fmt) { return unwrap(dq::format_frame(f, fmt)); },
         py::arg("frame"), py::arg("format"), "The frame as CSV, OBJ, PLY or glTF text.");

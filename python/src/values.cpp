@@ -30,6 +30,14 @@ py::array_t<double> to_numpy(const std::array<double, N>& c) {
   return py::array_t<double>(static_cast<py::ssize_t>(N), c.data());
 }
 
+/// x[i] of the components, Python style (−1 the last); IndexError outside.
+template <std::size_t N>
+double component(const std::array<double, N>& c, py::ssize_t i) {
+  const auto n = static_cast<py::ssize_t>(N);
+  if (i < -n || i >= n) throw py::index_error("component " + std::to_string(i) + " of " + std::to_string(N));
+  return c[static_cast<std::size_t>(i < 0 ? i + n : i)];
+}
+
 /// np.asarray(x) and np.asarray(x, dtype): the components, float64 unless a dtype is asked for.
 template <class X>
 py::object as_array(const X& x, py::object dtype) {
@@ -100,10 +108,10 @@ void bind_scalars(py::module_& m) {
 }
 
 void bind_quaternion(py::module_& m) {
-  py::enum_<dq::SignPolicy>(m, "SignPolicy", "Whether approx_equal treats q and −q as the same rotation.")
+  Enum<dq::SignPolicy>(m, "SignPolicy", "Whether approx_equal treats q and −q as the same rotation.")
       .value("exact", dq::SignPolicy::exact)
       .value("same_rotation", dq::SignPolicy::same_rotation);
-  py::enum_<dq::Path>(m, "Path", "Which arc slerp and sclerp follow.")
+  Enum<dq::Path>(m, "Path", "Which arc slerp and sclerp follow.")
       .value("shortest", dq::Path::shortest)
       .value("longest", dq::Path::longest);
   py::class_<dq::AxisAngle<double>>(m, "AxisAngle", "Unit axis and angle (radians).")
@@ -146,6 +154,8 @@ void bind_quaternion(py::module_& m) {
       .def("to_numpy", [](const Q& q) { return to_numpy(components(q)); }, "float64 array (w, x, y, z).")
       .def("__array__", &as_array<Q>, py::arg("dtype") = py::none())
       .def("__iter__", [](const Q& q) { return py::iter(py::make_tuple(q.w, q.x, q.y, q.z)); })
+      .def("__len__", [](const Q&) { return 4; })
+      .def("__getitem__", [](const Q& q, py::ssize_t i) { return component(components(q), i); }, py::arg("i"))
       .def("__repr__", [](const Q& q) { return repr_of("Quaternion", q.w, q.x, q.y, q.z); })
       .def(py::pickle([](const Q& q) { return py::make_tuple(q.w, q.x, q.y, q.z); }, [](py::tuple t) { return quaternion_from(t); }));
 
@@ -214,6 +224,8 @@ void bind_dual_quaternion(py::module_& m) {
       .def("to_numpy", [](const DQ& q) { return to_numpy(components(q)); }, "float64 array (w, x, y, z real, then dual).")
       .def("__array__", &as_array<DQ>, py::arg("dtype") = py::none())
       .def("__iter__", [](const DQ& q) { return py::iter(py::cast(components(q))); })
+      .def("__len__", [](const DQ&) { return 8; })
+      .def("__getitem__", [](const DQ& q, py::ssize_t i) { return component(components(q), i); }, py::arg("i"))
       .def("__repr__", [](const DQ& q) {
         return repr_of("DualQuaternion", q.real.w, q.real.x, q.real.y, q.real.z, q.dual.w, q.dual.x, q.dual.y, q.dual.z);
       })
@@ -229,7 +241,7 @@ void bind_dual_quaternion(py::module_& m) {
         py::arg("t"), py::arg("path") = dq::Path::shortest, "Screw linear interpolation a (a⁻¹ b)^t (constant speed along the screw).");
   m.def("dlb", [](const DQ& a, const DQ& b, double t) { return dq::dlb(a, b, t); }, py::arg("a"), py::arg("b"), py::arg("t"),
         "Dual quaternion linear blending of two keys.");
-  py::enum_<dq::BlendPivot>(m, "BlendPivot")
+  Enum<dq::BlendPivot>(m, "BlendPivot")
       .value("largest_weight", dq::BlendPivot::largest_weight)
       .value("first", dq::BlendPivot::first);
   m.def("dlb", [](const std::vector<DQ>& qs, const std::vector<double>& w, dq::BlendPivot pivot) {
@@ -244,6 +256,7 @@ void bind_dual_quaternion(py::module_& m) {
       .def_readonly("residual", &dq::IterativeBlend<double>::residual);
   m.def("dib", [](const std::vector<DQ>& qs, const std::vector<double>& w, int iterations) {
           if (w.size() != qs.size() || qs.empty()) throw py::value_error("dib needs one or more dual quaternions and one weight per dual quaternion");
+          if (iterations < 1) throw py::value_error("max_iterations: expected 1 or more, got " + std::to_string(iterations));
           return dq::dib(std::span<const DQ>(qs), std::span<const double>(w), iterations);
         },
         py::arg("qs"), py::arg("weights"), py::arg("max_iterations") = 20, "Dual quaternion iterative blending (Kavan's DIB).");
@@ -259,15 +272,15 @@ void bind_conversions(py::module_& m) {
           if (a && a.ndim() == 3) return from_matrix_rows(a);
           if (a && a.ndim() == 2 && a.shape(0) == 3 && a.shape(1) == 4) return py::cast(dq::from_matrix(mat_from_numpy<3, 4>(mat)));
           if (a && a.ndim() == 2 && a.shape(0) == 4 && a.shape(1) == 4) return py::cast(dq::from_matrix(mat_from_numpy<4, 4>(mat)));
-          throw py::value_error("matrix: expected shape (4, 4), (3, 4) or (N, 4, 4)");
+          throw py::value_error("matrix: expected shape (4, 4), (3, 4), (N, 4, 4) or (N, 3, 4)");
         },
         py::arg("matrix"),
-        "The unit dual quaternion of a (4, 4) or (3, 4) rigid transform matrix; (N, 4, 4) matrices give (N, 8) dual quaternions.");
-  py::enum_<dq::EulerOrder> order(m, "EulerOrder", "The twelve axis sequences.");
+        "The unit dual quaternion of a (4, 4) or (3, 4) rigid transform matrix; (N, 4, 4) or (N, 3, 4) matrices give (N, 8) dual quaternions.");
+  Enum<dq::EulerOrder> order(m, "EulerOrder", "The twelve axis sequences.");
   for (auto o : {dq::EulerOrder::XYZ, dq::EulerOrder::XZY, dq::EulerOrder::YXZ, dq::EulerOrder::YZX, dq::EulerOrder::ZXY, dq::EulerOrder::ZYX,
                  dq::EulerOrder::XYX, dq::EulerOrder::XZX, dq::EulerOrder::YXY, dq::EulerOrder::YZY, dq::EulerOrder::ZXZ, dq::EulerOrder::ZYZ})
     order.value(std::string(dq::to_string(o)).c_str(), o);
-  py::enum_<dq::EulerFrame>(m, "EulerFrame", "intrinsic XYZ(a, b, c) = Rx(a) Ry(b) Rz(c); extrinsic = Rz(c) Ry(b) Rx(a).")
+  Enum<dq::EulerFrame>(m, "EulerFrame", "intrinsic XYZ(a, b, c) = Rx(a) Ry(b) Rz(c); extrinsic = Rz(c) Ry(b) Rx(a).")
       .value("intrinsic", dq::EulerFrame::intrinsic)
       .value("extrinsic", dq::EulerFrame::extrinsic);
   py::class_<dq::EulerAngles<double>>(m, "EulerAngles", "The first, middle and third angle of a sequence (radians).")
@@ -322,6 +335,9 @@ void bind_values(py::module_& m) {
   bind_quaternion(m);
   bind_dual_quaternion(m);
   bind_conversions(m);
+  // NumPy would take np.float64(2) * q through q.__array__ and answer an ndarray: with
+  // __array_ufunc__ = None its operators defer to the value's own (q.__rmul__ here).
+  for (const char* name : {"Quaternion", "DualQuaternion"}) m.attr(name).attr("__array_ufunc__") = py::none();
 }
 
 }  // namespace dqpy

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "dq/ik/solver.hpp"
@@ -68,7 +69,7 @@ Expected<std::vector<int>> find_feet(const Skeleton& s, const std::vector<std::s
   if (!names.empty()) {
     for (const std::string& n : names) {
       const int j = s.find(n);
-      if (j < 0) return Error{"no joint named '" + n + "' (give the foot joints with --feet)"};
+      if (j < 0) return Error{"no joint named '" + n + "' for a foot"};
       feet.push_back(j);
     }
     return feet;
@@ -86,7 +87,7 @@ Expected<std::vector<int>> find_feet(const Skeleton& s, const std::vector<std::s
     if (feet.size() >= 2) return feet;
     feet.clear();
   }
-  return Error{"no foot joints found by name (Toe, Foot, Ankle): give them with --feet"};
+  return Error{"no foot joints found by name (Toe, Foot, Ankle): name them"};
 }
 
 /// Frames of contact: low and slow, debounced (gaps bridged, short runs dropped).
@@ -129,6 +130,11 @@ double smoothstep(double x) {
 Expected<FixFeetReport> fix_foot_sliding(BvhFile& bvh, const FixFeetOptions& options) {
   if (bvh.frame_count == 0) return Error{"the file has no motion to fix"};
   if (!(bvh.frame_time > 0)) return Error{"the frame time must be positive"};
+  if (std::isnan(options.height) || std::isnan(options.speed) || options.height == std::numeric_limits<double>::infinity() ||
+      options.speed == std::numeric_limits<double>::infinity())
+    return Error{"the contact height and speed must be finite (negative: chosen from the leg's length)"};
+  if (options.min_contact_frames < 1 || options.merge_gap_frames < 0 || options.blend_frames < 0)
+    return Error{"min_contact_frames must be 1 or more, merge_gap_frames and blend_frames 0 or more"};
   Expected<BvhKinematics> kin = bvh_kinematics(bvh);
   if (!kin) return kin.error();
   const KinematicModel& model = kin->model;

@@ -396,6 +396,13 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> requested, std::span<do
     result.position_error = result.orientation_error = std::numeric_limits<double>::quiet_NaN();  // no solve ran: no error to show as 0
     return result;
   };
+  const IkOptions& o = options_;
+  if (o.max_iterations < 1 || o.max_restarts < 0) return invalid("options: max_iterations must be 1 or more, max_restarts 0 or more");
+  if (!(o.position_tolerance >= 0 && o.orientation_tolerance >= 0 && o.initial_damping > 0 && o.rest_weight >= 0) ||
+      !std::isfinite(o.position_tolerance + o.orientation_tolerance + o.initial_damping + o.rest_weight))
+    return invalid("options: the tolerances and rest_weight must be finite and 0 or more, initial_damping finite and positive");
+  if (o.method != IkMethod::levenberg_marquardt && o.method != IkMethod::newton && o.method != IkMethod::gauss_seidel)
+    return invalid("options: method is not an IkMethod");
   if (q_io.size() != n) return invalid("q must have one value per model parameter");
   if (!rest.empty() && rest.size() != n) return invalid("rest must be empty or have one value per model parameter");
   for (double v : q_io)

@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "dq/io/file.hpp"
 #include "dq/io/utf8.hpp"
 #include "import_internal.hpp"
 
@@ -368,6 +369,9 @@ Expected<ImportedScene> import_scene(const std::filesystem::path& path, const Im
   const auto status = std::filesystem::status(path, ec);
   if (!std::filesystem::exists(status)) return Error{path.string() + ": no such file"};
   if (std::filesystem::is_directory(status)) return Error{path.string() + ": is a directory"};
+  // A FIFO would hold the importer until its wall-clock limit; a device could be endless.
+  if (Status s = refuse_special_file(path); !s) return s.error();
+  if (!(options.timeout_seconds > 0)) return Error{path.string() + ": ImportOptions::timeout_seconds must be positive"};
   if (!options.isolate) return detail::import_file_in_process(path, options);
   return detail::run_isolated(detail::make_request(false, path.string(), {}, options), path.string(), options);
 }

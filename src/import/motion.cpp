@@ -6,12 +6,8 @@
 namespace dq {
 
 Expected<Motion> import_motion(const std::filesystem::path& path, const MotionOptions& options) {
-  // A device, FIFO or socket is refused here, without blocking (import_scene alone would wait for
-  // a FIFO until the worker's wall-clock limit).
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (std::filesystem::exists(status) && !std::filesystem::is_directory(status) && !std::filesystem::is_regular_file(status))
-    return Error{path.string() + ": is not a regular file (a device, FIFO or socket)"};
+  // A device, FIFO or socket is refused before the BVH sniffing opens it.
+  if (Status s = refuse_special_file(path); !s) return s.error();
   if (is_bvh_file(path) || has_bvh_extension(path)) return load_motion(path, options);
   ImportOptions io;
   io.sample_rate = options.sample_rate > 0 ? options.sample_rate : 30;
@@ -24,7 +20,7 @@ Expected<Motion> import_motion(const std::filesystem::path& path, const MotionOp
   m.format = ext.empty() ? "unknown" : ext.substr(1);
   m.skeleton = scene->skeleton;
   m.animation_count = scene->animations.size();
-  if (options.animation >= m.animation_count && m.animation_count > 0)
+  if (options.animation >= m.animation_count && options.animation > 0)  // 0 of none: the rest pose
     return Error{path.string() + ": animation " + std::to_string(options.animation) + " requested, the file has " +
                  std::to_string(m.animation_count)};
   if (m.animation_count > 0) m.animation = scene->animations[options.animation].animation;

@@ -1,6 +1,7 @@
 #include "dq/io/bvh.hpp"
 
 #include "dq/io/utf8.hpp"
+#include "dq/util/assert.hpp"
 
 #include <algorithm>
 #include <array>
@@ -598,6 +599,8 @@ Expected<BvhFile> with_rotation_order(const BvhFile& bvh, EulerOrder order) {
 }
 
 DualQuaternion<double> bvh_local_transform(const BvhFile& bvh, std::size_t joint, std::size_t frame) {
+  DQ_PRECONDITION(joint < bvh.joints.size() && frame < bvh.frame_count && bvh.motion.size() == bvh.frame_count * bvh.channel_count(),
+                  "bvh_local_transform needs a joint and a frame of the file", DualQuaternion<double>{});
   const BvhJoint& j = bvh.joints[joint];
   const auto values = bvh.frame(frame);
   return DualQuaternion<double>::from_rotation_translation(joint_rotation(j, values), joint_translation(j, values));
@@ -619,6 +622,9 @@ Expected<BvhFile> to_bvh(const Skeleton& skeleton, const Animation& given, Euler
     rest_pose.locals.assign(skeleton.rest_pose().begin(), skeleton.rest_pose().end());
   }
   const Animation& animation = given.frame_count == 0 ? rest_pose : given;
+  if (animation.joint_count != skeleton.size() || animation.locals.size() != animation.frame_count * animation.joint_count)
+    return Error{"the animation has " + std::to_string(animation.joint_count) + " joints (" + std::to_string(animation.locals.size()) +
+                 " transforms), the skeleton " + std::to_string(skeleton.size()) + ": they are not one character's"};
   BvhFile out;
   out.frame_count = animation.frame_count;
   out.frame_time = animation.frame_time > 0 ? animation.frame_time : 1.0 / 30;
@@ -689,7 +695,18 @@ Expected<Skeleton> bvh_skeleton(const BvhFile& bvh) {
   return build_skeleton(raw);
 }
 
+bool is_skeleton_of(const Skeleton& skeleton, const BvhFile& bvh) {
+  if (skeleton.size() != bvh.joints.size() || bvh.motion.size() != bvh.frame_count * bvh.channel_count()) return false;
+  const auto raw = skeleton.raw_indices();
+  for (std::size_t j = 0; j < skeleton.size(); ++j)
+    if (raw[j] < 0 || static_cast<std::size_t>(raw[j]) >= bvh.joints.size() ||
+        bvh.joints[static_cast<std::size_t>(raw[j])].name != skeleton.names()[j])
+      return false;
+  return true;
+}
+
 Animation bvh_animation(const BvhFile& bvh, const Skeleton& skeleton) {
+  DQ_PRECONDITION(is_skeleton_of(skeleton, bvh), "bvh_animation needs the file's own skeleton (bvh_skeleton)", Animation{});
   Animation anim;
   anim.frame_time = bvh.frame_time;
   anim.frame_count = bvh.frame_count;

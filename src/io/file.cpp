@@ -257,6 +257,14 @@ std::string lowercase_extension(const std::filesystem::path& path) {
   return extension;
 }
 
+Status refuse_special_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (std::filesystem::exists(status) && !std::filesystem::is_directory(status) && !std::filesystem::is_regular_file(status))
+    return Error{path.string() + ": is not a regular file (a device, FIFO or socket)"};
+  return {};
+}
+
 Status write_file_atomically(const std::filesystem::path& path, std::string_view contents, Overwrite overwrite) {
   Expected<OutputFile> out = OutputFile::create(path, overwrite);
   if (!out) return out.error();

@@ -63,7 +63,7 @@ def test_batch_forward_kinematics_on_cmu():
     # One pose, float32, and parents given as a list.
     np.testing.assert_array_equal(dqkit.local_to_model(list(skeleton.parents), local[5]), model[5])
     # Parents must be signed integers, checked before narrowing: never truncated or wrapped.
-    for bad, message in (([-1, 0.7], "expected signed integers"), (np.array([0, 1], np.uint8), "expected signed integers"),
+    for bad, message in (([-1, 0.7], "J signed integers"), (np.array([0, 1], np.uint8), "J signed integers"),
                          ([-1, 2**40], "joint 1 has parent 1099511627776")):
         with pytest.raises(ValueError, match=message):
             dqkit.local_to_model(bad, local[5][:2])

@@ -24,8 +24,8 @@ SkinnedModel load_skinned_model(const SkinnedModelOptions& o) {
   // Assimp gives BVH captures a mesh that draws the bones; it is not a character's skin.
   if (has_bvh_extension(o.file) || is_bvh_file(o.file))
     throw Failure(o.file + ": a BVH capture has no mesh to skin (only the skeleton and its motion: dqkit fk, dqkit convert)");
-  if (!scene->animations.empty() && o.animation >= scene->animations.size())
-    throw Failure(o.file + ": --animation " + std::to_string(o.animation) + ": the file has " + count_text(scene->animations.size(), "animation", "animations"));
+  if (o.animation > 0 && o.animation >= scene->animations.size())  // 0 of none: the rest pose
+    throw Failure(o.file + ": animation " + std::to_string(o.animation) + " requested, the file has " + std::to_string(scene->animations.size()));
   Expected<SceneSkin> skins = SceneSkin::build(*scene);
   if (!skins) throw Failure(o.file + ": " + skins.error().message);
   if (skins->renormalized_vertices())

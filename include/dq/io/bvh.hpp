@@ -89,6 +89,7 @@ Status write_bvh(const BvhFile& bvh, const std::function<void(std::string_view)>
 Expected<BvhFile> with_rotation_order(const BvhFile& bvh, EulerOrder order);
 
 /// The local transform of joint j in frame f (translate(OFFSET + positions) · rotation).
+/// Precondition: j < joints.size(), f < frame_count.
 DualQuaternion<double> bvh_local_transform(const BvhFile& bvh, std::size_t joint, std::size_t frame);
 /// The local transform of joint j from OFFSET alone (the rest pose).
 DualQuaternion<double> bvh_rest_transform(const BvhFile& bvh, std::size_t joint);
@@ -98,13 +99,17 @@ DualQuaternion<double> bvh_rest_transform(const BvhFile& bvh, std::size_t joint)
 /// position channels; OFFSET is the rest translation. Names have whitespace replaced by '_'.
 /// End Sites (skeleton joints marked so) become End Site blocks; names changed by the replacement
 /// are made unique again (suffix "_2", ...), each with a warning in BvhFile::warnings. A skeleton without animation is written with one
-/// frame, its rest pose (OFFSET alone cannot hold rest rotations). Proper Euler orders are errors.
+/// frame, its rest pose (OFFSET alone cannot hold rest rotations). Proper Euler orders are errors,
+/// as is an animation of another joint count than the skeleton's.
 Expected<BvhFile> to_bvh(const Skeleton& skeleton, const Animation& animation, EulerOrder order = EulerOrder::ZXY);
 
 /// The skeleton of a BVH file (joint order preserved; End Sites included).
 Expected<Skeleton> bvh_skeleton(const BvhFile& bvh);
+/// Whether `skeleton` is bvh_skeleton(bvh): as many joints, each naming the file's joint it reads
+/// (and the motion has frame_count × channel_count values).
+bool is_skeleton_of(const Skeleton& skeleton, const BvhFile& bvh);
 /// Every frame's local transforms, in skeleton order (frame_count × joints × 64 bytes: callers that
-/// bound memory check that first, as load_motion does).
+/// bound memory check that first, as load_motion does). Precondition: is_skeleton_of(skeleton, bvh).
 Animation bvh_animation(const BvhFile& bvh, const Skeleton& skeleton);
 
 }  // namespace dq

@@ -53,6 +53,11 @@ class OutputFile {
 /// The extension of a file name with its dot, in lower case ("" for none): ".BVH" and ".bvh" alike.
 std::string lowercase_extension(const std::filesystem::path& path);
 
+/// An error if `path` exists and is neither a regular file nor a directory (a device, FIFO or
+/// socket, which a reader may wait on for ever), found without opening it; otherwise success
+/// (a missing file or a directory is the caller's to report).
+Status refuse_special_file(const std::filesystem::path& path);
+
 /// Writes `contents` to `path` (OutputFile: create, write, commit). Errors name the file.
 Status write_file_atomically(const std::filesystem::path& path, std::string_view contents, Overwrite overwrite);
 
