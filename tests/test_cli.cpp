@@ -129,6 +129,14 @@ TEST_F(Cli, BadArgumentsAndFilesGiveClearErrors) {
   r = run("info /nonexistent.gltf");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("/nonexistent.gltf: no such file"), std::string::npos) << r.err;
+  // Names are printed with their control characters as '?': an escape sequence in a joint name
+  // reached the terminal.
+  std::ofstream(dir_ / "escape.bvh") << "HIERARCHY\nROOT a\x1b[31mred\n{\nOFFSET 0 0 0\nCHANNELS 1 Xposition\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n"
+                                        "MOTION\nFrames: 1\nFrame Time: 0.1\n0\n";
+  r = run("info " + (dir_ / "escape.bvh").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("a?[31mred [Xposition]"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find('\x1b'), std::string::npos);
   // A file without animations has only animation 0, its rest pose: 7 was ignored without a word.
   const std::string still = std::string(DQKIT_ASSIMP_MODELS) + "/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
   if (fs::exists(still)) {
@@ -335,6 +343,20 @@ TEST_F(CliScript, RateIsHonoured) {
   EXPECT_EQ(rows[0][1], "time");
   EXPECT_EQ(rows[3][1], "0.10000000000000001");
   EXPECT_DOUBLE_EQ(std::stod(rows[3][3]), 2.0);  // root x at 0.1 s (frame 1): OFFSET 1 + Xposition 1
+  // A capture without frames gets the rate asked for too (it kept its own frame time, 1 s).
+  write("still.bvh", "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n"
+                     "MOTION\nFrames: 0\nFrame Time: 1\n");
+  r = run("convert " + p("still.bvh") + " " + p("still10.bvh") + " --rate 10");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_DOUBLE_EQ(read_bvh_file(dir_ / "still10.bvh")->frame_time, 0.1);
+  // A clip of two frames 1e-14 s apart keeps its last pose: 2 frames, the second the file's second.
+  write("blink.bvh", "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 1 Xposition\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n"
+                     "MOTION\nFrames: 2\nFrame Time: 1e-14\n0\n1\n");
+  r = run("fk " + p("blink.bvh") + " --rate 30 --all --joint Hips");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto blink = parse_csv(r.out);
+  ASSERT_EQ(blink.size(), 1 + 2u);
+  EXPECT_EQ(blink[2][2], "1");  // x of the second frame
 }
 
 TEST_F(CliScript, LocalTransformsMatricesEulerSubsetAndScale) {
@@ -404,6 +426,8 @@ TEST_F(CliScript, EveryMisuseGetsAClearMessage) {
       {"fk " + p("a.bvh") + " -o /dev/null", "/dev/null: is not a regular file (a symbolic link, device, FIFO or socket): dqkit writes only regular files"},
       {"fk ''", "an empty file name"},
       {"fk " + p("a.bvh") + " --degrees", "--degrees applies to Euler angles: add --rotation euler"},
+      {"fk " + p("a.bvh") + " --euler-order XYZ", "--euler-order applies to Euler angles: add --rotation euler"},
+      {"fk " + p("a.bvh") + " --joint left,arm --joint left,arm", "--joint: 'left,arm' is given twice"},
       {"frobnicate x", "unknown command 'frobnicate' (commands: info, fk, convert"},
       {"fk " + p("a.bvh") + " --rate nan", "--rate: 'nan' is not a finite number"},
       {"fk " + p("a.bvh") + " --import-timeout nan", "--import-timeout: 'nan' is not a finite number"},

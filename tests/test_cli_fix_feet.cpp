@@ -57,6 +57,13 @@ TEST(CliFixFeet, WritesACaptureWithoutSlidingAndKeepsTheRest) {
   // Unknown foot names are an error with exit code 1.
   EXPECT_NE(run("fix-feet " + input.string() + " -o " + (dir / "x.bvh").string() + " --feet NoSuchToe"), 0);
   EXPECT_FALSE(fs::exists(dir / "x.bvh"));
+  // --feet takes one value: the arguments after it stay arguments (it swallowed the input and -o).
+  EXPECT_EQ(run("fix-feet --feet LeftToeBase,RightToeBase " + input.string() + " -o " + (dir / "y.bvh").string()), 0);
+  EXPECT_EQ(read_bvh_file(dir / "y.bvh")->motion, after->motion);  // the feet found by name are these two
+  // A foot named twice, or an output that is not .bvh, is refused before anything is written.
+  EXPECT_NE(run("fix-feet " + input.string() + " -o " + (dir / "z.bvh").string() + " --feet LeftToeBase,LeftToeBase"), 0);
+  EXPECT_NE(run("fix-feet " + input.string() + " -o " + (dir / "z.txt").string()), 0);
+  EXPECT_FALSE(fs::exists(dir / "z.bvh") || fs::exists(dir / "z.txt"));
   fs::remove_all(dir);
 }
 

@@ -263,6 +263,7 @@ TEST(Hostile, ResamplingEndsOnTheLastKey) {
   EXPECT_EQ(resampled_frame_count(1.0, 30), 31u);
   EXPECT_EQ(resampled_frame_count(1.03, 30), 32u);  // the old floor gave 31 and lost the end
   EXPECT_EQ(resampled_frame_count(0, 30), 1u);
+  EXPECT_EQ(resampled_frame_count(1e-14, 30), 2u);  // any positive length keeps its last pose
   // Counts beyond any memory saturate instead of wrapping (a cast of 2^64 or more is undefined).
   EXPECT_EQ(resampled_frame_count(1e13, 1e7), std::numeric_limits<std::size_t>::max());
   EXPECT_EQ(resampled_frame_count(std::numeric_limits<double>::quiet_NaN(), 30), std::numeric_limits<std::size_t>::max());

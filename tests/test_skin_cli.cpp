@@ -121,6 +121,18 @@ TEST_F(SkinCli, RenderSequenceStopsAtTheClipsEnd) {
   EXPECT_NE(r.err.find("--until: the clip ends at 3.3 s; the sequence stops there (4 of 21 frames)"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::exists(dir_ / "end_0003.png"));
   EXPECT_FALSE(fs::exists(dir_ / "end_0004.png"));
+  // With --until the names are numbered even when one frame remains (a script knows them).
+  const std::string one = (dir_ / "one.png").string();
+  ASSERT_EQ(run("render " + model("X/BCN_Epileptic.X") + " --time 1 --until 1 --width 32 --height 32 --out " + one).code, 0);
+  EXPECT_TRUE(fs::exists(dir_ / "one_0000.png"));
+  EXPECT_FALSE(fs::exists(dir_ / "one.png"));
+  // A directory in the way is named as one, with or without --force.
+  fs::create_directory(dir_ / "dir.png");
+  for (const char* force : {"", " --force"}) {
+    const Outcome d = run("render " + model("X/BCN_Epileptic.X") + " --width 32 --height 32 --out " + (dir_ / "dir.png").string() + force);
+    EXPECT_EQ(d.code, 1);
+    EXPECT_NE(d.err.find("dir.png: is a directory"), std::string::npos) << d.err;
+  }
 }
 
 TEST_F(SkinCli, InfoOfAModelWithoutAnimationSaysSo) {
@@ -159,6 +171,9 @@ TEST_F(SkinCli, ErrorsSayWhat) {
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("no window"), std::string::npos) << r.err;
   }
+  r = run("skin -");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("standard input is not supported"), std::string::npos) << r.err;
   r = run("skin " + (dir_ / "missing.gltf").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("missing.gltf"), std::string::npos) << r.err;

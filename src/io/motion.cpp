@@ -16,7 +16,9 @@
 namespace dq {
 
 std::size_t resampled_frame_count(double seconds, double rate) {
-  const double steps = std::ceil(seconds * rate - 1e-9);
+  // 1e-9 of a frame of rounding does not add a frame; a clip of any positive length keeps its last
+  // pose (a 1e-14 s clip at 30 Hz lost it to that tolerance).
+  const double steps = std::max(std::ceil(seconds * rate - 1e-9), seconds > 0 ? 1.0 : 0.0);
   if (!(steps < 0x1p62)) return std::numeric_limits<std::size_t>::max();  // also NaN
   return static_cast<std::size_t>(std::max(steps, 0.0)) + 1;
 }
@@ -74,6 +76,8 @@ Expected<Motion> from_bvh(Expected<BvhFile> bvh, const std::string& source, cons
       sample<double>(m.animation, std::min(static_cast<double>(f) / options.sample_rate, duration), Interpolation::screw, WrapMode::clamp,
                      std::span(out.locals).subspan(f * out.joint_count, out.joint_count));
     m.animation = std::move(out);
+  } else if (resample) {
+    m.animation.frame_time = 1 / options.sample_rate;  // no frames, but the rate asked for (convert writes it)
   }
   m.animation_count = 1;
   m.warnings = bvh->warnings;

@@ -41,6 +41,7 @@ void add_input_options(CLI::App& c, InputOptions& o, const std::string& option_n
   c.add_option("--import-timeout", o.import_timeout, "Seconds before the importer (a separate process) is abandoned")
       ->check(finite_in(0, 86400));
   c.add_option("--memory-limit", o.memory_limit_mb, "MB the animation may take (frames x joints x 64 bytes; default 4096)")
+      ->check(whole_number_up_to(std::size_t{1} << 30, "a whole number of megabytes"))
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
 }
 

@@ -1,4 +1,5 @@
 // dqkit fix-feet: removes foot sliding from a BVH capture with IK on the legs (dq/ik/motion_capture.hpp).
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
@@ -20,6 +21,13 @@ struct FixFeetArgs {
 
 int run_fix_feet(const FixFeetArgs& args) {
   if (args.input.rate != 0) throw Failure("fix-feet keeps the capture's own frames: --rate does not apply");
+  if (!is_stdout(args.output) && lowercase_extension(args.output) != ".bvh")
+    throw Failure(args.output + ": fix-feet writes BVH (the file name must end in .bvh, or - for standard output)");
+  for (std::size_t i = 0; i < args.feet.size(); ++i) {
+    if (args.feet[i].empty()) throw Failure("--feet: an empty joint name");
+    if (std::find(args.feet.begin(), args.feet.begin() + static_cast<std::ptrdiff_t>(i), args.feet[i]) != args.feet.begin() + static_cast<std::ptrdiff_t>(i))
+      throw Failure("--feet: '" + args.feet[i] + "' is given twice");
+  }
   Motion m = load(args.input);
   if (!m.bvh) throw Failure(args.input.file + ": fix-feet works on BVH captures (convert other formats to BVH first)");
   Output out(args.output, args.force, {args.input.file});  // refusals before the work
@@ -47,7 +55,8 @@ Runner define_fix_feet(CLI::App& c) {
   c.add_option("-o,--output", args->output, "BVH file to write (- or omitted: standard output)")->check(file_name());
   c.add_flag("--force", args->force, "Replace the output file if it exists (a regular file only)");
   c.add_option("--feet", args->feet, "Foot joints, comma-separated (default: found by name: Toe, else Foot, else Ankle)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);  // one value (with commas): the arguments after it stay arguments
   c.add_option("--height", args->options.height, "Contact when the foot is this far above its lowest point at most (file units; default 0.1 leg lengths)")
       ->check(finite_in(0, 1e12));
   c.add_option("--speed", args->options.speed, "... and slower than this (file units per second; default 1 leg length per second)")

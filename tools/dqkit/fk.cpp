@@ -25,6 +25,7 @@ struct FkArgs {
   std::string rotation = "quaternion";
   std::string euler_order = "ZXY";
   bool degrees = false;
+  bool euler_order_given = false;
   std::vector<std::string> joints;  ///< empty: every joint
   double scale = 1;
   bool time = false, parents = false;
@@ -49,6 +50,7 @@ std::vector<std::size_t> selected_joints(const Skeleton& s, const std::vector<st
   for (const std::string& n : names) {
     const auto it = index.find(n);
     if (it == index.end()) throw Failure("--joint: the file has no joint named '" + n + "' (dqkit info lists them)");
+    if (std::find(out.begin(), out.end(), it->second) != out.end()) throw Failure("--joint: '" + n + "' is given twice");
     out.push_back(it->second);
   }
   return out;
@@ -56,6 +58,7 @@ std::vector<std::size_t> selected_joints(const Skeleton& s, const std::vector<st
 
 int run_fk(const FkArgs& args) {
   if (args.degrees && args.rotation != "euler") throw Failure("--degrees applies to Euler angles: add --rotation euler");
+  if (args.euler_order_given && args.rotation != "euler") throw Failure("--euler-order applies to Euler angles: add --rotation euler");
   const Motion m = load(args.input);
   const Skeleton& s = m.skeleton;
   const Animation& a = m.animation;
@@ -195,13 +198,17 @@ Runner define_fk(CLI::App& c) {
   c.add_option("--space", args->space, "world (model space) or local (relative to the parent)")->check(CLI::IsMember({"world", "local"}));
   c.add_option("--rotation", args->rotation, "quaternion (w x y z, w >= 0), matrix (3x3, row by row) or euler")
       ->check(CLI::IsMember({"quaternion", "matrix", "euler"}));
-  c.add_option("--euler-order", args->euler_order, "Intrinsic Euler sequence for --rotation euler (default ZXY)")->check(CLI::IsMember(kOrders));
+  CLI::Option* order = c.add_option("--euler-order", args->euler_order, "Intrinsic Euler sequence for --rotation euler (default ZXY)")
+                           ->check(CLI::IsMember(kOrders));
   c.add_flag("--degrees", args->degrees, "Euler angles in degrees (default radians)");
   c.add_option("--joint", args->joints, "Only this joint (repeat for several; default every joint)")->allow_extra_args(false);
   c.add_option("--scale", args->scale, "Multiply positions by this (unit conversion, e.g. 0.01 for cm to m)")->check(finite_in(0, 1e12));
   c.add_flag("--time", args->time, "CSV: add a time column (seconds)");
   c.add_flag("--parents", args->parents, "CSV: add the joint's index and its parent's index (-1 for a root)");
-  return [args] { return run_fk(*args); };
+  return [args, order] {
+    args->euler_order_given = order->count() > 0;
+    return run_fk(*args);
+  };
 }
 
 }  // namespace dq::cli

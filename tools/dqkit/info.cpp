@@ -9,6 +9,15 @@ namespace dq::cli {
 
 namespace {
 
+/// A name as the text report prints it: control characters (an escape sequence would reach the
+/// terminal) as '?'; UTF-8 kept. JSON escapes them instead.
+std::string printable(std::string_view name) {
+  std::string out(name);
+  for (char& c : out)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  return out;
+}
+
 struct InfoArgs {
   InputOptions input;
   std::string format = "text";
@@ -102,7 +111,7 @@ int run_info(const InfoArgs& args) {
     if (m.scene) {
       o << "meshes: " << m.scene->meshes.size() << " (" << skinned << " skinned, " << count_text(vertices, "vertex", "vertices") << ")\n";
       for (std::size_t i = 0; i < m.scene->animations.size(); ++i)
-        o << "animation " << i << ": '" << m.scene->animations[i].name << "', "
+        o << "animation " << i << ": '" << printable(m.scene->animations[i].name) << "', "
           << count_text(m.scene->animations[i].animation.frame_count, "frame", "frames") << " resampled\n";
     }
     o << "hierarchy:\n";
@@ -110,7 +119,7 @@ int run_info(const InfoArgs& args) {
     for (std::size_t j = 0; j < s.size(); ++j) {
       t.append(2 + 2 * std::min(depth[j], kMaxIndent), ' ');
       if (depth[j] > kMaxIndent) t += "(depth " + std::to_string(depth[j]) + ") ";
-      t += s.names()[j];
+      t += printable(s.names()[j]);
       if (const BvhJoint* b = bvh_joint(j)) t += b->end_site ? " (End Site)" : " [" + channels_of(*b) + "]";
       t += '\n';
       if (t.size() > (1u << 16)) out.write(std::exchange(t, {}));

@@ -86,17 +86,21 @@ int run_render(const RenderArgs& a) {
     for (std::size_t i = 0; i < count; ++i) times.push_back(a.model.time + static_cast<double>(i) / a.fps);
   }
   const std::string stem = a.output.substr(0, a.output.size() - 4);
-  const bool sequence = times.size() > 1;  // named NAME_0000.png ..., also if the clip's end shortens it
+  // With --until, always NAME_0000.png ...: a script knows the names whatever the clip's length.
+  const bool sequence = a.until.has_value();
   auto name_of = [&](std::size_t i) {
     if (!sequence) return a.output;
     char suffix[32];
     std::snprintf(suffix, sizeof suffix, "_%04zu.png", i);
     return stem + suffix;
   };
-  if (!a.force && !a.window)
-    for (std::size_t i = 0; i < times.size(); ++i)
-      if (std::filesystem::exists(name_of(i)))
-        throw Failure(name_of(i) + ": already exists; it is replaced only when asked (--force)");
+  if (!a.window)
+    for (std::size_t i = 0; i < times.size(); ++i) {
+      const std::string name = name_of(i);
+      if (std::filesystem::is_directory(name)) throw Failure(name + ": is a directory");
+      if (!a.force && std::filesystem::exists(name))
+        throw Failure(name + ": already exists; it is replaced only when asked (--force: a regular file only)");
+    }
 
   SkinnedModel m = load_skinned_model(a.model);
   SkinningThreads threads(std::max(1u, std::min(4u, std::thread::hardware_concurrency())));
@@ -188,7 +192,7 @@ int run_render(const RenderArgs& a) {
 Runner define_render(CLI::App& c) {
   auto a = std::make_shared<RenderArgs>();
   add_skinned_model_options(c, a->model);
-  CLI::Option* until = c.add_option("--until", a->until, "Last time of a frame sequence, written as OUT_0000.png, OUT_0001.png, ... (at most to the clip's end)")
+  CLI::Option* until = c.add_option("--until", a->until, "Last time of a frame sequence, written as OUT_0000.png, OUT_0001.png, ... (numbered even if one frame; at most to the clip's end)")
                           ->check(finite_in(-1e9, 1e9));
   c.add_option("--fps", a->fps, "Frames per second of a sequence")->check(finite_in(0, 1000))->needs(until);
   c.add_option("--method", a->method, "lbs, dqs, cor, or all: the three side by side (LBS, DQS, CoR from the left)")

@@ -15,6 +15,7 @@ void add_skinned_model_options(CLI::App& c, SkinnedModelOptions& o) {
 }
 
 SkinnedModel load_skinned_model(const SkinnedModelOptions& o) {
+  if (o.file == "-") throw Failure("-: skin and render read a model file (the importer needs a file name); standard input is not supported");
   ImportOptions options;
   options.timeout_seconds = o.import_timeout;
   Expected<ImportedScene> scene = import_scene(o.file, options);

@@ -39,7 +39,8 @@ struct MotionOptions {
   std::size_t memory_limit_mb = 4096;
 };
 
-/// Frames that cover `seconds` at `rate`: ⌈seconds × rate⌉ + 1, at f / rate, so that a source
+/// Frames that cover `seconds` at `rate`: ⌈seconds × rate⌉ + 1 (within 1e-9 of a frame; 2 at least
+/// for any positive length), at f / rate, so that a source
 /// whose frames lie on the grid keeps them to rounding (120 Hz to 30 Hz: every 4th). The last
 /// frame lies at or up to one frame past the end and holds the clip's last pose (a clip of 1.03 s
 /// at 30 Hz has 32 frames, the last at 31/30 s with the pose of 1.03 s): nothing of the clip is
