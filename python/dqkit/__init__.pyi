@@ -1182,15 +1182,18 @@ def approx_equal(a: Quaternion, b: Quaternion, tolerance: float, policy: SignPol
 def approx_equal(a: DualQuaternion, b: DualQuaternion, tolerance: float, policy: SignPolicy = ...) -> bool: ...
 def average(rotations: List[Quaternion], weights: List[float] = ...) -> Quaternion:
     """Weighted rotation average (Markley's eigenvector)."""
-def build_skeleton(raw: RawSkeleton) -> Skeleton: ...
+def build_skeleton(raw: RawSkeleton) -> Skeleton:
+    """The runtime Skeleton of a RawSkeleton (parents before children); ReadError naming the joint when invalid."""
 def build_skin(positions: object, bones: object, weights: object, inverse_bind: object, triangles: object = ..., options: SkinOptions = ...) -> Skin:
     """A skin from (V, 3) positions, (V, K) bone indices and weights (zero weights ignored), (B, 4, 4) inverse bind matrices and optional (T, 3) triangles (needed for SkinningMethod.cor)."""
 def bvh_animation(bvh: BvhFile, skeleton: Skeleton) -> Animation:
     """Every frame's local transforms; `skeleton` is bvh_skeleton(bvh)."""
-def bvh_kinematics(bvh: BvhFile) -> BvhKinematics: ...
+def bvh_kinematics(bvh: BvhFile) -> BvhKinematics:
+    """The channel model of a BVH file: one model parameter per channel (IK over the file's own channels)."""
 def bvh_local_transform(bvh: BvhFile, joint: int, frame: int) -> DualQuaternion:
     """The local transform of a joint (index into BvhFile.joints) in a frame."""
-def bvh_skeleton(bvh: BvhFile) -> Skeleton: ...
+def bvh_skeleton(bvh: BvhFile) -> Skeleton:
+    """The skeleton of a BVH file (its joint order, End Sites included)."""
 def compose(a: numpy.typing.ArrayLike, b: numpy.typing.ArrayLike) -> numpy.ndarray:
     """Row-wise products a[i] b[i] of (N, 8) dual quaternions (b applied first)."""
 def conjugate(q: numpy.typing.ArrayLike) -> numpy.ndarray:
@@ -1214,7 +1217,8 @@ def dlb(a: numpy.typing.ArrayLike, b: numpy.typing.ArrayLike, t: object) -> nump
     """Row-wise dual quaternion linear blending of (N, 8) keys; t a number or (N,)."""
 def dot(a: Quaternion, b: Quaternion) -> float:
     """Four-component dot product."""
-def euler_to_matrix(order: EulerOrder, frame: EulerFrame, a: float, b: float, c: float) -> numpy.ndarray: ...
+def euler_to_matrix(order: EulerOrder, frame: EulerFrame, a: float, b: float, c: float) -> numpy.ndarray:
+    """The (3, 3) rotation matrix of an Euler sequence, as the product of its three axis rotations."""
 @overload
 def exp(x: Dual) -> Dual: ...
 @overload
@@ -1235,18 +1239,21 @@ def from_euler(order: EulerOrder, frame: EulerFrame, a: float, b: float, c: floa
 def from_euler(order: EulerOrder, frame: EulerFrame, angles: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 4) rotations of (N, 3) Euler triples (a, b, c)."""
 def from_matrix(matrix: object) -> object:
-    """The unit dual quaternion of a (4, 4) or (3, 4) rigid transform matrix; (N, 4, 4) or (N, 3, 4) matrices give (N, 8) dual quaternions."""
+    """The unit dual quaternion of a (4, 4) or (3, 4) rigid transform matrix; (..., 4, 4) or (..., 3, 4) matrices give (..., 8) dual quaternions."""
 def from_rotation_translation(r: numpy.typing.ArrayLike, t: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 8) transforms: rotate by r[i], then translate by t[i]."""
 def from_rotation_vector(v: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 4) rotations of (N, 3) rotation vectors."""
-def from_screw(screw: Screw) -> DualQuaternion: ...
-def from_vrml(transform: VrmlTransform) -> DualQuaternion: ...
+def from_screw(screw: Screw) -> DualQuaternion:
+    """The unit dual quaternion of a screw motion (to_screw's inverse)."""
+def from_vrml(transform: VrmlTransform) -> DualQuaternion:
+    """The unit dual quaternion of a VRML Transform."""
 def import_motion(path: Union[str, bytes, os.PathLike], options: MotionOptions = ...) -> Motion:
     """The motion of any importable file (BVH through load_motion)."""
 def import_scene(path: Union[str, bytes, os.PathLike], options: ImportOptions = ...) -> ImportedScene:
     """Imports a model (glTF, FBX, Collada, X, ...) in the isolated worker."""
-def interpolate(a: DualQuaternion, b: DualQuaternion, u: float, mode: Interpolation) -> DualQuaternion: ...
+def interpolate(a: DualQuaternion, b: DualQuaternion, u: float, mode: Interpolation) -> DualQuaternion:
+    """Between two keys at fraction u, as the Interpolation says (screw: sclerp; dual_quaternion_linear: dlb; decoupled; matrix)."""
 def load_motion(path: Union[str, bytes, os.PathLike], options: MotionOptions = ...) -> Motion:
     """A BVH file's motion (other formats: import_motion)."""
 def local_to_model(skeleton: object, local: numpy.typing.ArrayLike) -> numpy.ndarray:
@@ -1262,7 +1269,8 @@ def log(q: DualQuaternion) -> DualQuaternion:
     """The screw logarithm of a unit dual quaternion."""
 def model_transforms(model: KinematicModel, q: object) -> numpy.ndarray:
     """(J, 8) world transforms of the joints for parameters q."""
-def nlerp(a: Quaternion, b: Quaternion, t: float, path: Path = ...) -> Quaternion: ...
+def nlerp(a: Quaternion, b: Quaternion, t: float, path: Path = ...) -> Quaternion:
+    """Normalized linear interpolation: the straight line between the keys, made unit (slerp's path, not its speed)."""
 def normalized(q: numpy.typing.ArrayLike) -> numpy.ndarray:
     """Each (N, 8) dual quaternion made unit (DualQuaternion.normalized)."""
 def pose_at(scene: ImportedScene, animation: int, time: float) -> numpy.ndarray:
@@ -1311,7 +1319,8 @@ def sqrt(x: Dual) -> Dual: ...
 def sqrt(x: HyperDual) -> HyperDual: ...
 @overload
 def sqrt(q: DualQuaternion) -> DualQuaternion: ...
-def to_bvh(skeleton: Skeleton, animation: Animation, order: EulerOrder = ...) -> BvhFile: ...
+def to_bvh(skeleton: Skeleton, animation: Animation, order: EulerOrder = ...) -> BvhFile:
+    """A BVH file of a skeleton and its animation (rotation channels in `order`); ValueError for another character's animation."""
 @overload
 def to_euler(q: Quaternion, order: EulerOrder, frame: EulerFrame) -> EulerExtraction:
     """Euler angles of a rotation; at gimbal lock the third angle is 0 and `singular` is set."""
@@ -1330,14 +1339,16 @@ def to_rotation_vector(q: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 3) rotation vectors (angle in [0, π]) of (N, 4) unit quaternions."""
 def to_screw(q: DualQuaternion) -> Screw:
     """θ in [0, π]; a pure translation has its axis through the origin."""
-def to_vrml(q: DualQuaternion, center: numpy.ndarray = ...) -> VrmlTransform: ...
+def to_vrml(q: DualQuaternion, center: numpy.ndarray = ...) -> VrmlTransform:
+    """A VRML Transform with the given center whose rotation and translation give q (from_vrml's inverse)."""
 def transform_directions(q: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike) -> numpy.ndarray:
     """R v for (N, 8) unit dual quaternions and (N, 3) directions."""
 def transform_points(q: numpy.typing.ArrayLike, p: numpy.typing.ArrayLike) -> numpy.ndarray:
     """R p + t for (N, 8) unit dual quaternions and (N, 3) points."""
 def translation(q: numpy.typing.ArrayLike) -> numpy.ndarray:
     """(N, 3) translations 2 q_d q_r* of (N, 8) unit dual quaternions."""
-def with_rotation_order(bvh: BvhFile, order: EulerOrder) -> BvhFile: ...
+def with_rotation_order(bvh: BvhFile, order: EulerOrder) -> BvhFile:
+    """The file with every joint's rotation channels in another order, each frame's rotations unchanged (to rounding)."""
 def write_bvh(bvh: BvhFile) -> str:
     """The BVH text; ValueError where it would not read back (a non-finite value, a bad name: the message says which)."""
 def write_bvh_file(bvh: BvhFile, path: Union[str, bytes, os.PathLike], overwrite: bool = ...) -> None:

@@ -83,7 +83,8 @@ void bind_skeleton(py::module_& m) {
       .def("subtree_end", [](const dq::Skeleton& s, py::ssize_t j) { return s.subtree_end(joint_index(s, j)); }, py::arg("j"),
            "One past the last joint of j's subtree.")
       .def("__repr__", [](const dq::Skeleton& s) { return "Skeleton(" + std::to_string(s.size()) + " joints)"; });
-  m.def("build_skeleton", [](const dq::RawSkeleton& raw) { return unwrap(dq::build_skeleton(raw)); }, py::arg("raw"));
+  m.def("build_skeleton", [](const dq::RawSkeleton& raw) { return unwrap(dq::build_skeleton(raw)); }, py::arg("raw"),
+        "The runtime Skeleton of a RawSkeleton (parents before children); ReadError naming the joint when invalid.");
 
   Enum<dq::Interpolation>(m, "Interpolation")
       .value("screw", dq::Interpolation::screw)
@@ -122,7 +123,8 @@ void bind_skeleton(py::module_& m) {
         py::arg("animation"), py::arg("time"), py::arg("mode") = dq::Interpolation::screw, py::arg("wrap") = dq::WrapMode::clamp,
         "(J, 8) local transforms at `time` seconds.");
   m.def("interpolate", [](const DQd& a, const DQd& b, double u, dq::Interpolation mode) { return dq::interpolate(a, b, u, mode); },
-        py::arg("a"), py::arg("b"), py::arg("u"), py::arg("mode"));
+        py::arg("a"), py::arg("b"), py::arg("u"), py::arg("mode"),
+        "Between two keys at fraction u, as the Interpolation says (screw: sclerp; dual_quaternion_linear: dlb; decoupled; matrix).");
 
   m.def("local_to_model", [](py::handle parents_obj, ArrayLike local) {
     const std::vector<int> parents = parents_of(parents_obj);
@@ -197,8 +199,10 @@ void bind_files(py::module_& m) {
   }, py::arg("bvh"), py::arg("path"), py::arg("overwrite") = false,
         "Writes atomically; refuses an existing file unless overwrite (WriteError); ValueError as write_bvh.");
   m.def("with_rotation_order", [](const dq::BvhFile& b, dq::EulerOrder o) { return unwrap(dq::with_rotation_order(b, o)); },
-        py::arg("bvh"), py::arg("order"));
-  m.def("bvh_skeleton", [](const dq::BvhFile& b) { return unwrap(dq::bvh_skeleton(b)); }, py::arg("bvh"));
+        py::arg("bvh"), py::arg("order"),
+        "The file with every joint's rotation channels in another order, each frame's rotations unchanged (to rounding).");
+  m.def("bvh_skeleton", [](const dq::BvhFile& b) { return unwrap(dq::bvh_skeleton(b)); }, py::arg("bvh"),
+        "The skeleton of a BVH file (its joint order, End Sites included).");
   m.def("bvh_animation", [](const dq::BvhFile& b, const dq::Skeleton& s) {
     if (!dq::is_skeleton_of(s, b))
       throw py::value_error("skeleton: not the skeleton of this BVH file (" + std::to_string(s.size()) + " joints against its " +
@@ -213,7 +217,8 @@ void bind_files(py::module_& m) {
     return dq::bvh_local_transform(b, static_cast<std::size_t>(joint), static_cast<std::size_t>(frame));
   }, py::arg("bvh"), py::arg("joint"), py::arg("frame"), "The local transform of a joint (index into BvhFile.joints) in a frame.");
   m.def("to_bvh", [](const dq::Skeleton& s, const dq::Animation& a, dq::EulerOrder o) { return unwrap(dq::to_bvh(s, a, o)); },
-        py::arg("skeleton"), py::arg("animation"), py::arg("order") = dq::EulerOrder::ZXY);
+        py::arg("skeleton"), py::arg("animation"), py::arg("order") = dq::EulerOrder::ZXY,
+        "A BVH file of a skeleton and its animation (rotation channels in `order`); ValueError for another character's animation.");
 
   py::class_<dq::MotionOptions>(m, "MotionOptions")
       .def(py::init<>())

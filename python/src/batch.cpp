@@ -7,17 +7,29 @@
 
 namespace dqpy {
 
-std::size_t broadcast_count(std::initializer_list<std::pair<const BatchInput*, const char*>> inputs) {
-  std::size_t n = 1;
+std::vector<py::ssize_t> common_leading(std::initializer_list<std::pair<const BatchInput*, const char*>> inputs) {
+  const auto text = [](const std::vector<py::ssize_t>& shape) {
+    if (shape.size() == 1) return "N = " + std::to_string(shape[0]);
+    std::string s = "leading shape (";
+    for (std::size_t i = 0; i < shape.size(); ++i) s += (i ? ", " : "") + std::to_string(shape[i]);
+    return s + ")";
+  };
+  const std::vector<py::ssize_t>* shape = nullptr;  // of the first input with more than one row
   const char* from = nullptr;
   for (const auto& [in, name] : inputs) {
-    if (in->single || in->count == n) continue;
-    if (n != 1 && in->count != 1)
-      throw py::value_error(std::string(name) + ": N = " + std::to_string(in->count) + " does not match " + from + "'s N = " +
-                            std::to_string(n));
-    if (in->count != 1 || !from) n = in->count, from = name;
+    if (in->single || in->count == 1) continue;  // used for every row
+    if (!shape) {
+      shape = &in->leading, from = name;
+    } else if (in->leading != *shape) {
+      throw py::value_error(std::string(name) + ": " + text(in->leading) + " does not match " + from + "'s " + text(*shape));
+    }
   }
-  return n;
+  if (shape) return *shape;
+  // Every input single or of one row: the result has the longest of their leading shapes.
+  std::vector<py::ssize_t> longest;
+  for (const auto& [in, name] : inputs)
+    if (in->leading.size() > longest.size()) longest = in->leading;
+  return longest;
 }
 
 namespace {
@@ -121,8 +133,8 @@ void bind_conversions(py::module_& m) {
   m.def("to_euler", [](ArrayLike q, dq::EulerOrder order, dq::EulerFrame frame) {
     return with_dtype(call_dtype(q, "q"), [&]<class T>() -> py::tuple {
       const BatchInput in = batch_input(q, q_shape, dtype_of_v<T>, "q", true);
-      py::array_t<T> angles(out_shape(in.single, in.count, {3}));
-      py::array_t<bool> singular(out_shape(in.single, in.count, {}));
+      py::array_t<T> angles(out_shape(in.leading, {3}));
+      py::array_t<bool> singular(out_shape(in.leading, {}));
       const Q<T>* x = as_values<Q<T>>(data_of<T>(in));
       T* a = angles.mutable_data();
       bool* flags = singular.mutable_data();
@@ -160,7 +172,7 @@ void bind_interpolation(py::module_& m) {
 }  // namespace
 
 py::array from_matrix_rows(const py::array& matrices) {
-  if (matrices.ndim() == 3 && matrices.shape(1) == 3)
+  if (matrices.ndim() >= 2 && matrices.shape(matrices.ndim() - 2) == 3)
     return map1<RowMajor34, DQ>(matrices, "matrix", {"N", "3", "4"}, {8}, [](const auto& x) { return dq::from_matrix(from_row_major(x)); });
   return map1<RowMajor4, DQ>(matrices, "matrix", {"N", "4", "4"}, {8}, [](const auto& x) { return dq::from_matrix(from_row_major(x)); });
 }

@@ -12,12 +12,18 @@ decltype(auto) with_dtype(Dtype d, F&& f) {
   return f.template operator()<double>();
 }
 
-/// The common N of inputs that are either (N, ...) or single values; ValueError when two differ.
-std::size_t broadcast_count(std::initializer_list<std::pair<const BatchInput*, const char*>> inputs);
+/// The leading extents of a call's result: those of its inputs that are not single values (or of
+/// N = 1, which is used for every row too); ValueError when two differ.
+std::vector<py::ssize_t> common_leading(std::initializer_list<std::pair<const BatchInput*, const char*>> inputs);
+/// The number of rows of leading extents.
+inline std::size_t row_count(const std::vector<py::ssize_t>& leading) {
+  std::size_t n = 1;
+  for (const py::ssize_t e : leading) n *= static_cast<std::size_t>(e);
+  return n;
+}
 
-inline std::vector<py::ssize_t> out_shape(bool single, std::size_t n, const std::vector<py::ssize_t>& tail) {
-  std::vector<py::ssize_t> s;
-  if (!single) s.push_back(static_cast<py::ssize_t>(n));
+inline std::vector<py::ssize_t> out_shape(const std::vector<py::ssize_t>& leading, const std::vector<py::ssize_t>& tail) {
+  std::vector<py::ssize_t> s = leading;
   s.insert(s.end(), tail.begin(), tail.end());
   return s;
 }
@@ -27,7 +33,7 @@ template <template <class> class A, template <class> class R, class F>
 py::array map1(py::handle a, const char* name, const std::vector<const char*>& shape, const std::vector<py::ssize_t>& tail, F f) {
   return with_dtype(call_dtype(a, name), [&]<class T>() -> py::array {
     const BatchInput in = batch_input(a, shape, dtype_of_v<T>, name, true);
-    py::array_t<T> out(out_shape(in.single, in.count, tail));
+    py::array_t<T> out(out_shape(in.leading, tail));
     const A<T>* x = as_values<A<T>>(data_of<T>(in));
     R<T>* o = as_values<R<T>>(out.mutable_data());
     py::gil_scoped_release release;
@@ -42,9 +48,10 @@ py::array map2(py::handle a, py::handle b, const char* na, const char* nb, const
                const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f) {
   return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
     const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);
-    const std::size_t n = broadcast_count({{&ia, na}, {&ib, nb}});
+    const std::vector<py::ssize_t> leading = common_leading({{&ia, na}, {&ib, nb}});
+    const std::size_t n = row_count(leading);
     const std::size_t da = ia.count == 1 ? 0 : 1, db = ib.count == 1 ? 0 : 1;
-    py::array_t<T> out(out_shape(ia.single && ib.single, n, tail));
+    py::array_t<T> out(out_shape(leading, tail));
     const A<T>* x = as_values<A<T>>(data_of<T>(ia));
     const B<T>* y = as_values<B<T>>(data_of<T>(ib));
     R<T>* o = as_values<R<T>>(out.mutable_data());
@@ -73,9 +80,10 @@ py::array map3(py::handle a, py::handle b, const py::object& t, const char* na, 
   return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
     const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);
     const BatchInput it = batch_input(interpolation_parameter<T>(t), {"N"}, dtype_of_v<T>, "t", true);
-    const std::size_t n = broadcast_count({{&ia, na}, {&ib, nb}, {&it, "t"}});
+    const std::vector<py::ssize_t> leading = common_leading({{&ia, na}, {&ib, nb}, {&it, "t"}});
+    const std::size_t n = row_count(leading);
     const std::size_t da = ia.count == 1 ? 0 : 1, db = ib.count == 1 ? 0 : 1, dt = it.count == 1 ? 0 : 1;
-    py::array_t<T> out(out_shape(ia.single && ib.single && it.single, n, tail));
+    py::array_t<T> out(out_shape(leading, tail));
     const A<T>* x = as_values<A<T>>(data_of<T>(ia));
     const B<T>* y = as_values<B<T>>(data_of<T>(ib));
     const T* s = data_of<T>(it);

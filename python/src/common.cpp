@@ -1,5 +1,7 @@
 #include "common.hpp"
 
+#include <algorithm>
+
 namespace dqpy {
 
 namespace {
@@ -91,24 +93,43 @@ BatchInput batch_input(py::handle obj, const std::vector<const char*>& dims, Dty
   // offset) is copied into an aligned one first.
   if (!(py::detail::array_proxy(c.ptr())->flags & py::detail::npy_api::NPY_ARRAY_ALIGNED_)) c = c.attr("copy")();
   const std::size_t want = dims.size();
+  if (optional_leading && want >= 1 && std::string_view(dims[0]) == "N" && std::all_of(dims.begin() + 1, dims.end(), is_fixed)) {
+    const std::size_t tail = want - 1, ndim = static_cast<std::size_t>(c.ndim());
+    bool ok = ndim >= tail;
+    for (std::size_t i = 0; ok && i < tail; ++i) ok = c.shape(static_cast<py::ssize_t>(ndim - tail + i)) == std::stol(dims[1 + i]);
+    if (!ok)
+    {  // NumPy's notation: "..." for any leading dimensions, none included
+      std::vector<const char*> any(dims.begin(), dims.end());
+      any[0] = "...";
+      throw py::value_error(std::string(name) + ": expected shape " + shape_text(any) + ", got " + shape_of(a));
+    }
+    std::vector<py::ssize_t> leading(c.shape(), c.shape() + (ndim - tail));
+    std::size_t count = 1;
+    for (const py::ssize_t e : leading) count *= static_cast<std::size_t>(e);
+    const bool single = leading.empty();
+    return {std::move(c), count, single, std::move(leading)};
+  }
   const bool full = static_cast<std::size_t>(c.ndim()) == want;
   const bool short_form = optional_leading && static_cast<std::size_t>(c.ndim()) + 1 == want;
   bool ok = full || short_form;
   const std::size_t skip = full ? 0 : 1;
   std::size_t count = 1;
+  std::vector<py::ssize_t> leading;
   for (std::size_t i = skip; ok && i < want; ++i) {
     const auto extent = c.shape(static_cast<py::ssize_t>(i - skip));
-    if (is_fixed(dims[i]))
+    if (is_fixed(dims[i])) {
       ok = extent == std::stol(dims[i]);
-    else
+    } else {
       count *= static_cast<std::size_t>(extent);
+      leading.push_back(extent);
+    }
   }
   if (!ok) {
     std::string expected = shape_text(dims);
     if (optional_leading) expected += " or " + shape_text(std::vector<const char*>(dims.begin() + 1, dims.end()));
     throw py::value_error(std::string(name) + ": expected shape " + expected + ", got " + shape_of(a));
   }
-  return {std::move(c), count, short_form};
+  return {std::move(c), count, short_form, std::move(leading)};
 }
 
 py::array_t<double> dual_quaternions_to_numpy(std::span<const dq::DualQuaternion<double>> qs, std::vector<py::ssize_t> shape) {

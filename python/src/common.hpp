@@ -130,6 +130,7 @@ struct BatchInput {
   py::array array;  ///< the contiguous array (the caller's own when the layout allowed)
   std::size_t count = 0;  ///< product of the leading (named) dimensions
   bool single = false;    ///< given without its leading dimension: one value for every row
+  std::vector<py::ssize_t> leading;  ///< the leading extents ((N,), or (F, J) for an (F, J, 8) array)
 };
 
 /// The dtype of a batch call: float32 or float64, else ValueError.
@@ -142,7 +143,9 @@ Dtype call_dtype(py::handle first, const char* name);
 
 /// Checks `obj` against the shape `dims` (names for leading extents, digits for fixed ones, e.g.
 /// {"N", "8"}); `optional_leading` accepts the shape without its first dimension too (one value
-/// broadcast over N). Converts to `dtype` (same as the other inputs: mixing is an error).
+/// broadcast over N). A lone leading "N" stands for any number of leading dimensions, as NumPy's
+/// (..., 8): an (F, J, 8) array is F × J rows. Converts to `dtype` (same as the other inputs:
+/// mixing is an error).
 BatchInput batch_input(py::handle obj, const std::vector<const char*>& dims, Dtype dtype, const char* name,
                        bool optional_leading = false);
 

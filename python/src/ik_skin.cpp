@@ -141,7 +141,8 @@ void bind_motion_capture(py::module_& m) {
         k.to_parameters(std::span(f.data(), static_cast<std::size_t>(f.shape(0))), std::span(q.mutable_data(), k.channel_of.size()));
         return q;
       }, py::arg("frame"), "A frame's channel values (degrees, as in BvhFile.motion[f]) as model parameters (radians).");
-  m.def("bvh_kinematics", [](const dq::BvhFile& b) { return unwrap(dq::bvh_kinematics(b)); }, py::arg("bvh"));
+  m.def("bvh_kinematics", [](const dq::BvhFile& b) { return unwrap(dq::bvh_kinematics(b)); }, py::arg("bvh"),
+        "The channel model of a BVH file: one model parameter per channel (IK over the file's own channels).");
   py::class_<dq::FixFeetOptions>(m, "FixFeetOptions")
       .def(py::init<>())
       .def_readwrite("feet", &dq::FixFeetOptions::feet).def_readwrite("height", &dq::FixFeetOptions::height)

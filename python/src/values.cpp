@@ -170,7 +170,8 @@ void bind_quaternion(py::module_& m) {
   m.def("slerp", [](const Q& a, const Q& b, double t, dq::Path path) { return dq::slerp(a, b, t, path); }, py::arg("a"), py::arg("b"),
         py::arg("t"), py::arg("path") = dq::Path::shortest, "Spherical linear interpolation (constant angular speed, never fails).");
   m.def("nlerp", [](const Q& a, const Q& b, double t, dq::Path path) { return dq::nlerp(a, b, t, path); }, py::arg("a"), py::arg("b"),
-        py::arg("t"), py::arg("path") = dq::Path::shortest);
+        py::arg("t"), py::arg("path") = dq::Path::shortest,
+        "Normalized linear interpolation: the straight line between the keys, made unit (slerp's path, not its speed).");
   m.def("average", [](const std::vector<Q>& qs, const std::vector<double>& w) {
           if (w.empty()) return dq::average<double>(std::span<const Q>(qs));
           if (w.size() != qs.size()) throw py::value_error("average needs one weight per rotation");
@@ -269,13 +270,13 @@ void bind_conversions(py::module_& m) {
   m.def("to_mat34", [](const DQ& q) { return mat_to_numpy(dq::to_mat34(q)); }, py::arg("q"), "The top three rows of to_mat4.");
   m.def("from_matrix", [](py::handle mat) -> py::object {
           const auto a = py::array::ensure(mat);
-          if (a && a.ndim() == 3) return from_matrix_rows(a);
+          if (a && a.ndim() >= 3) return from_matrix_rows(a);
           if (a && a.ndim() == 2 && a.shape(0) == 3 && a.shape(1) == 4) return py::cast(dq::from_matrix(mat_from_numpy<3, 4>(mat)));
           if (a && a.ndim() == 2 && a.shape(0) == 4 && a.shape(1) == 4) return py::cast(dq::from_matrix(mat_from_numpy<4, 4>(mat)));
-          throw py::value_error("matrix: expected shape (4, 4), (3, 4), (N, 4, 4) or (N, 3, 4)");
+          throw py::value_error("matrix: expected shape (..., 4, 4) or (..., 3, 4)");
         },
         py::arg("matrix"),
-        "The unit dual quaternion of a (4, 4) or (3, 4) rigid transform matrix; (N, 4, 4) or (N, 3, 4) matrices give (N, 8) dual quaternions.");
+        "The unit dual quaternion of a (4, 4) or (3, 4) rigid transform matrix; (..., 4, 4) or (..., 3, 4) matrices give (..., 8) dual quaternions.");
   Enum<dq::EulerOrder> order(m, "EulerOrder", "The twelve axis sequences.");
   for (auto o : {dq::EulerOrder::XYZ, dq::EulerOrder::XZY, dq::EulerOrder::YXZ, dq::EulerOrder::YZX, dq::EulerOrder::ZXY, dq::EulerOrder::ZYX,
                  dq::EulerOrder::XYX, dq::EulerOrder::XZX, dq::EulerOrder::YXY, dq::EulerOrder::YZY, dq::EulerOrder::ZXZ, dq::EulerOrder::ZYZ})
@@ -299,7 +300,8 @@ void bind_conversions(py::module_& m) {
   m.def("to_euler", [](const Q& q, dq::EulerOrder o, dq::EulerFrame f) { return dq::to_euler(q, o, f); }, py::arg("q"), py::arg("order"),
         py::arg("frame"), "Euler angles of a rotation; at gimbal lock the third angle is 0 and `singular` is set.");
   m.def("euler_to_matrix", [](dq::EulerOrder o, dq::EulerFrame f, double a, double b, double c) { return mat_to_numpy(dq::euler_to_matrix(o, f, a, b, c)); },
-        py::arg("order"), py::arg("frame"), py::arg("a"), py::arg("b"), py::arg("c"));
+        py::arg("order"), py::arg("frame"), py::arg("a"), py::arg("b"), py::arg("c"),
+        "The (3, 3) rotation matrix of an Euler sequence, as the product of its three axis rotations.");
 
   py::class_<dq::Screw<double>>(m, "Screw", "Unit axis line, angle θ about it and translation d along it.")
       .def(py::init([](const dq::PluckerLine<double>& axis, double angle, double d) { return dq::Screw<double>{axis, angle, d}; }),
@@ -311,7 +313,7 @@ void bind_conversions(py::module_& m) {
       .def("__repr__", [](const dq::Screw<double>& s) {
         return repr_of("Screw", str_of(s.axis.direction), str_of(s.axis.moment), s.angle, s.translation);
       });
-  m.def("from_screw", &dq::from_screw<double>, py::arg("screw"));
+  m.def("from_screw", &dq::from_screw<double>, py::arg("screw"), "The unit dual quaternion of a screw motion (to_screw's inverse).");
   m.def("to_screw", &dq::to_screw<double>, py::arg("q"), "θ in [0, π]; a pure translation has its axis through the origin.");
 
   py::class_<dq::VrmlTransform<double>>(m, "VrmlTransform", "VRML Transform: rotation (axis, angle) about center, then translation.")
@@ -324,8 +326,9 @@ void bind_conversions(py::module_& m) {
       .def("__repr__", [](const dq::VrmlTransform<double>& v) {
         return repr_of("VrmlTransform", str_of(v.axis), v.angle, str_of(v.translation), str_of(v.center));
       });
-  m.def("from_vrml", &dq::from_vrml<double>, py::arg("transform"));
-  m.def("to_vrml", &dq::to_vrml<double>, py::arg("q"), py::arg("center") = V{});
+  m.def("from_vrml", &dq::from_vrml<double>, py::arg("transform"), "The unit dual quaternion of a VRML Transform.");
+  m.def("to_vrml", &dq::to_vrml<double>, py::arg("q"), py::arg("center") = V{},
+        "A VRML Transform with the given center whose rotation and translation give q (from_vrml's inverse).");
 }
 
 }  // namespace

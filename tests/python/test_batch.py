@@ -116,12 +116,12 @@ def test_non_contiguous_inputs_are_read_correctly(rng):
 
 
 @pytest.mark.parametrize("call, message", [
-    (lambda: dqkit.compose(np.zeros((5, 7)), np.zeros((5, 8))), r"a: expected shape \(N, 8\) or \(8,\), got \(5, 7\)"),
-    (lambda: dqkit.transform_points(np.zeros((5, 8)), np.zeros((5, 4))), r"p: expected shape \(N, 3\) or \(3,\), got \(5, 4\)"),
-    (lambda: dqkit.to_mat4(np.zeros((2, 3, 8))), r"q: expected shape \(N, 8\) or \(8,\), got \(2, 3, 8\)"),
-    (lambda: dqkit.from_matrix(np.zeros((5, 2, 4))), r"matrix: expected shape \(N, 4, 4\)"),
-    (lambda: dqkit.from_matrix(np.zeros((2, 2))), r"matrix: expected shape \(4, 4\), \(3, 4\), \(N, 4, 4\) or \(N, 3, 4\)"),
-    (lambda: dqkit.slerp(np.zeros((5, 8)), np.zeros((5, 4)), 0.5), r"a: expected shape \(N, 4\)"),
+    (lambda: dqkit.compose(np.zeros((5, 7)), np.zeros((5, 8))), r"a: expected shape \(\.\.\., 8\), got \(5, 7\)"),
+    (lambda: dqkit.transform_points(np.zeros((5, 8)), np.zeros((5, 4))), r"p: expected shape \(\.\.\., 3\), got \(5, 4\)"),
+    (lambda: dqkit.to_mat4(np.zeros((2, 3, 7))), r"q: expected shape \(\.\.\., 8\), got \(2, 3, 7\)"),
+    (lambda: dqkit.from_matrix(np.zeros((5, 2, 4))), r"matrix: expected shape \(\.\.\., 4, 4\)"),
+    (lambda: dqkit.from_matrix(np.zeros((2, 2))), r"matrix: expected shape \(\.\.\., 4, 4\) or \(\.\.\., 3, 4\)"),
+    (lambda: dqkit.slerp(np.zeros((5, 8)), np.zeros((5, 4)), 0.5), r"a: expected shape \(\.\.\., 4\)"),
     (lambda: dqkit.compose(np.zeros((5, 8), np.int64), np.zeros((5, 8))), "expected dtype float32 or float64, got int64"),
     (lambda: dqkit.compose(np.zeros((5, 8), np.float16), np.zeros((5, 8))), "expected dtype float32 or float64, got float16"),
     (lambda: dqkit.compose(np.zeros((5, 8), np.float32), np.zeros((5, 8))), "b: dtype float64 does not match the other inputs' float32"),
@@ -234,3 +234,24 @@ def test_lists_take_the_call_dtype_and_values_pick_the_scalar_overload(rng):
     assert isinstance(dqkit.sclerp(a, b, 1), dqkit.DualQuaternion)  # int t: still the scalar function
     with pytest.raises(TypeError):
         dqkit.compose(object(), q)
+
+
+def test_leading_dimensions_as_numpy(rng):
+    """(..., 8): an (F, J, 8) array, such as local_to_model's result, is F × J rows, and the result
+    keeps the leading shape; row by row the same as the flattened call."""
+    q, _, _ = random_rigid(rng, 6)
+    p, _, _ = random_rigid(rng, 6)
+    world = q.reshape(2, 3, 8)
+    np.testing.assert_array_equal(dqkit.translation(world), dqkit.translation(q).reshape(2, 3, 3))
+    np.testing.assert_array_equal(dqkit.compose(world, p.reshape(2, 3, 8)), dqkit.compose(q, p).reshape(2, 3, 8))
+    np.testing.assert_array_equal(dqkit.compose(world, p[0]), dqkit.compose(q, p[0]).reshape(2, 3, 8))  # one value for every row
+    t = np.linspace(0, 1, 6)
+    np.testing.assert_array_equal(dqkit.sclerp(world, p.reshape(2, 3, 8), t.reshape(2, 3)), dqkit.sclerp(q, p, t).reshape(2, 3, 8))
+    angles, singular = dqkit.to_euler(q[:, :4].reshape(3, 2, 4) / np.linalg.norm(q[:, :4], axis=1).reshape(3, 2, 1),
+                                      dqkit.EulerOrder.ZYX, dqkit.EulerFrame.intrinsic)
+    assert angles.shape == (3, 2, 3) and singular.shape == (3, 2)
+    matrices = dqkit.to_mat4(world)
+    assert matrices.shape == (2, 3, 4, 4)
+    np.testing.assert_array_equal(dqkit.from_matrix(matrices), dqkit.from_matrix(matrices.reshape(6, 4, 4)).reshape(2, 3, 8))
+    with pytest.raises(ValueError, match=r"b: N = 6 does not match a's leading shape \(2, 3\)"):
+        dqkit.compose(world, p)
