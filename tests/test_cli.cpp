@@ -394,6 +394,27 @@ TEST_F(CliScript, InfoAsJson) {
   EXPECT_EQ(j["hierarchy"][0]["channels"].size(), 6u);
 }
 
+TEST_F(CliScript, TheOutputsExtensionChoosesItsFormat) {
+  // fk -o x.json wrote CSV into x.json; now the extension decides when --format is not given,
+  // and a --format that contradicts it is refused before anything is written.
+  write("a.bvh", kAwkward);
+  ASSERT_EQ(run("fk " + p("a.bvh") + " --all -o " + p("all.json")).code, 0);
+  std::ifstream json_file(dir_ / "all.json");
+  EXPECT_EQ(nlohmann::json::parse(json_file)["frames"].size(), 5u);
+  ASSERT_EQ(run("info " + p("a.bvh") + " -o " + p("info.JSON")).code, 0);
+  std::ifstream info_file(dir_ / "info.JSON");
+  EXPECT_EQ(nlohmann::json::parse(info_file)["joints"], 3);
+  ASSERT_EQ(run("fk " + p("a.bvh") + " -o " + p("frame0.dat")).code, 0);  // another extension: the default, CSV
+  std::ifstream dat(dir_ / "frame0.dat");
+  std::string header;
+  std::getline(dat, header);
+  EXPECT_EQ(header.rfind("frame,joint,", 0), 0u) << header;
+  const Outcome r = run("fk " + p("a.bvh") + " --format csv -o " + p("clash.json"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("--format csv, but the output " + (dir_ / "clash.json").string() + " is named as json"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "clash.json"));
+}
+
 TEST_F(CliScript, ValuesBeyondDoubleAreErrorsNotUnreadableOutput) {
   // Offsets of 1e300, finite in the file, overflow once scaled: convert and fk refuse to write ∞,
   // which neither BVH nor JSON can read back, and leave no file.

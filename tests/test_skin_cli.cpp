@@ -56,7 +56,9 @@ TEST_F(SkinCli, FilesAreNotReplacedWithoutForce) {
   const Outcome again = run("skin " + model("X/Testwuson.X") + " --format obj -o " + out);
   EXPECT_EQ(again.code, 1);
   EXPECT_NE(again.err.find("frame.obj"), std::string::npos) << again.err;
-  EXPECT_EQ(run("skin " + model("X/Testwuson.X") + " --format ply -o " + out + " --force").code, 0);
+  EXPECT_EQ(run("skin " + model("X/Testwuson.X") + " --method lbs -o " + out + " --force").code, 0);
+  // A format that contradicts the name is refused (it wrote PLY into frame.obj).
+  EXPECT_EQ(run("skin " + model("X/Testwuson.X") + " --format ply -o " + out + " --force").code, 1);
 }
 
 TEST_F(SkinCli, RenderAllThreeSideBySide) {
@@ -171,6 +173,13 @@ TEST_F(SkinCli, ErrorsSayWhat) {
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("no window"), std::string::npos) << r.err;
   }
+  // The output's extension chooses the format (out.obj held CSV).
+  r = run("skin " + model("X/Testwuson.X") + " -o " + (dir_ / "frame.obj").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream obj(dir_ / "frame.obj");
+  std::string first;
+  std::getline(obj, first);
+  EXPECT_EQ(first, "# dqkit skinned frame");
   r = run("skin -");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("standard input is not supported"), std::string::npos) << r.err;

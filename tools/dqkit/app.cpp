@@ -12,6 +12,8 @@ namespace dq::cli {
 std::unique_ptr<CLI::App> make_app(Arguments& a) {
   auto app = std::make_unique<CLI::App>("dqkit: rigid transforms with dual quaternions, for 3D character hierarchies");
   app->require_subcommand(1);
+  // Usage errors start with "dqkit: " as the others do (a script greps standard error for it).
+  app->failure_message([](const CLI::App* failed, const CLI::Error& e) { return "dqkit: " + CLI::FailureMessage::simple(failed, e); });
   app->set_version_flag("--version", "dqkit 0.1.0");
   for (const Command& c : commands()) {
     CLI::App* sub = app->add_subcommand(std::string(c.name), std::string(c.description));
@@ -37,6 +39,12 @@ int run_tool(int argc, char** argv) {
   try {
     Arguments args;
     const auto app = make_app(args);
+    // An option before any command is named (CLI11 would say only that a command is required).
+    if (argc > 1 && argv[1][0] == '-') {
+      const std::string_view first = argv[1];
+      if (first != "-h" && first != "--help" && first != "--version")
+        return fail("unknown option '" + std::string(first) + "' before the command (dqkit COMMAND [OPTIONS]; see dqkit --help)");
+    }
     // An unknown command is named (CLI11 would say only that an argument was not expected).
     if (argc > 1 && argv[1][0] != '-') {
       bool known = false;

@@ -47,6 +47,26 @@ void add_input_options(CLI::App& c, InputOptions& o, const std::string& option_n
 
 bool is_stdout(const std::string& path) { return path.empty() || path == "-"; }
 
+std::function<std::string(const std::string& output)> add_format_option(CLI::App& command, const std::vector<std::string>& formats,
+                                                                        const std::string& help) {
+  auto value = std::make_shared<std::string>(formats.front());
+  CLI::Option* option = command.add_option("--format", *value, help + " (default: from the output's extension, else " + formats.front() + ")")
+                            ->check(CLI::IsMember(formats));
+  return [value, option, formats](const std::string& output) {
+    std::string named;  // the format the output's extension names, if any
+    if (!is_stdout(output)) {
+      std::string extension = lowercase_extension(output);
+      if (!extension.empty()) extension.erase(0, 1);
+      if (extension == "txt") extension = "text";
+      if (std::find(formats.begin(), formats.end(), extension) != formats.end()) named = extension;
+    }
+    if (option->count() == 0) return named.empty() ? *value : named;
+    if (!named.empty() && named != *value)
+      throw Failure("--format " + *value + ", but the output " + output + " is named as " + named + " (give the name its format's extension)");
+    return *value;
+  };
+}
+
 namespace {
 std::string read_stdin() {
   std::string text;

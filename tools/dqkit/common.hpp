@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -63,6 +64,13 @@ class Output {
 
 /// "-" or empty: standard output.
 bool is_stdout(const std::string& path);
+
+/// Adds --format FORMAT (one of `formats`, the first the default) and returns the function that
+/// gives the format to write to `output`: --format when given, else the output name's extension
+/// when it names one (out.json: json; .txt: text), else the default. --format naming another of
+/// them than the extension is an error (--format csv -o out.json).
+std::function<std::string(const std::string& output)> add_format_option(CLI::App& command, const std::vector<std::string>& formats,
+                                                                        const std::string& help);
 
 /// Shortest text that reads back as the same double ("%.17g" digits, via to_chars).
 void append_number(std::string& out, double v);

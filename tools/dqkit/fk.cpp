@@ -18,7 +18,7 @@ struct FkArgs {
   InputOptions input;
   std::optional<std::string> frames;  ///< "0,1,100", "0:100:2", mixed; none: frame 0
   bool all = false;
-  std::string format = "csv";
+  std::function<std::string(const std::string&)> format;
   std::string output;  ///< empty or "-": standard output
   bool force = false;
   std::string space = "world";
@@ -57,6 +57,7 @@ std::vector<std::size_t> selected_joints(const Skeleton& s, const std::vector<st
 }
 
 int run_fk(const FkArgs& args) {
+  const std::string format = args.format(args.output);  // refusals before the work
   if (args.degrees && args.rotation != "euler") throw Failure("--degrees applies to Euler angles: add --rotation euler");
   if (args.euler_order_given && args.rotation != "euler") throw Failure("--euler-order applies to Euler angles: add --rotation euler");
   const Motion m = load(args.input);
@@ -76,7 +77,7 @@ int run_fk(const FkArgs& args) {
   const std::vector<std::size_t> joints = selected_joints(s, args.joints);
   Output out(args.output, args.force, {args.input.file});
 
-  const bool csv = args.format == "csv", world = args.space == "world";
+  const bool csv = format == "csv", world = args.space == "world";
   const EulerOrder order = order_named(args.euler_order);
   const auto axes = euler_axes(order);
   const double angle_unit = args.degrees ? 180 / std::numbers::pi : 1;
@@ -192,7 +193,7 @@ Runner define_fk(CLI::App& c) {
                               "Frames, from 0: numbers and Python slices start:stop:step (stop exclusive, negative from the end), "
                               "comma-separated and mixable, e.g. 0,10:20,::5 (default: 0)");
   c.add_flag("--all", args->all, "Every frame")->excludes(frames);
-  c.add_option("--format", args->format, "Output format: csv (RFC 4180) or json")->check(CLI::IsMember({"csv", "json"}));
+  args->format = add_format_option(c, {"csv", "json"}, "Output format: csv (RFC 4180) or json");
   c.add_option("-o,--output", args->output, "Write to this file instead of standard output (- for standard output)")->check(file_name());
   c.add_flag("--force", args->force, "Replace the output file if it exists (a regular file only)");
   c.add_option("--space", args->space, "world (model space) or local (relative to the parent)")->check(CLI::IsMember({"world", "local"}));

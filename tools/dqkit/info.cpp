@@ -20,7 +20,7 @@ std::string printable(std::string_view name) {
 
 struct InfoArgs {
   InputOptions input;
-  std::string format = "text";
+  std::function<std::string(const std::string&)> format;
   std::string output;
   bool force = false;
 };
@@ -34,6 +34,7 @@ std::string channels_of(const BvhJoint& b) {
 }
 
 int run_info(const InfoArgs& args) {
+  const std::string format = args.format(args.output);  // refusals before the work
   const Motion m = load(args.input);
   Output out(args.output, args.force, {args.input.file});
   const Skeleton& s = m.skeleton;
@@ -54,7 +55,7 @@ int run_info(const InfoArgs& args) {
     return m.bvh ? &m.bvh->joints[static_cast<std::size_t>(s.raw_indices()[j])] : nullptr;
   };
   std::string t;
-  if (args.format == "json") {
+  if (format == "json") {
     t += "{\"file\":";
     append_json_string(t, args.input.file);
     t += ",\"format\":";
@@ -135,7 +136,7 @@ int run_info(const InfoArgs& args) {
 Runner define_info(CLI::App& c) {
   auto args = std::make_shared<InfoArgs>();
   add_input_options(c, args->input);
-  c.add_option("--format", args->format, "Output format")->check(CLI::IsMember({"text", "json"}));
+  args->format = add_format_option(c, {"text", "json"}, "Output format: text or json");
   c.add_option("-o,--output", args->output, "Write to this file instead of standard output (- for standard output)")->check(file_name());
   c.add_flag("--force", args->force, "Replace the output file if it exists (a regular file only)");
   return [args] { return run_info(*args); };
