@@ -162,7 +162,8 @@ TEST_F(SkinCli, ErrorsSayWhat) {
                                         std::pair{"10,,20", "--camera must be"}, std::pair{"10,20,5,1", "--camera must be"},
                                         std::pair{"10,20x", "--camera must be"}, std::pair{"nan,20", "--camera must be"},
                                         std::pair{"10,90", "the pitch 90° is beyond ±85.94°"},
-                                        std::pair{"10,20,-1", "the distance -1 is negative"}}) {
+                                        std::pair{"10,20,-1", "the distance -1 is negative"},
+                                        std::pair{"10,20,1e308", "the model would be smaller than a pixel"}}) {
     r = run("render " + model("X/Testwuson.X") + " --camera=" + camera + " --out " + (dir_ / "y.png").string());
     EXPECT_EQ(r.code, 1) << camera;
     EXPECT_NE(r.err.find(message), std::string::npos) << camera << ": " << r.err;

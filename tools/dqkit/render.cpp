@@ -2,6 +2,7 @@
 // CoR or all three side by side (each view captioned), one time or a sequence of numbered PNGs, with a camera that
 // frames the whole animation so that the frames of a sequence line up; or shown in a window, where
 // a drag turns the camera and the wheel moves it nearer or farther (render::orbit).
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -133,8 +134,14 @@ int run_render(const RenderArgs& a) {
   const double deg = std::numbers::pi / 180;
   render::Camera camera = render::Camera::framing(bounds, aspect, yaw * deg, pitch * deg);
   if (distance > 0) {
+    // Beyond 10^4 times the framing distance the model is under a pixel (and at 1e308 the depth
+    // range vanished: a blank picture); near it, the near plane keeps 1e-4 of the model's size
+    // (inside the model, 1e-12 of it left no depth precision).
+    if (distance > 1e4 * camera.distance)
+      throw Failure("--camera: at the distance " + CLI::detail::to_string(distance) + " the model would be smaller than a pixel (it fills the view at " +
+                    CLI::detail::to_string(camera.distance) + ")");
     camera.distance = distance;
-    camera.near_plane = std::max(distance - 2 * bounds.radius(), distance * 1e-3);
+    camera.near_plane = std::max({distance - 2 * bounds.radius(), distance * 1e-3, bounds.radius() * 1e-4});
     camera.far_plane = distance + 2 * bounds.radius();
   }
   const render::RenderOptions options{width, height, 4, {1, 1, 1, 1}};
