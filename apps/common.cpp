@@ -28,8 +28,9 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--frames", o.frames, "Frames to render headless")->check(CLI::Range(1, 100000));
   app.add_option("--out", o.out, "Directory for frame_0000.png ... (created)");
   app.add_flag("--force", o.force, "Headless: replace the frames already in --out (those of a longer earlier run are removed)");
-  app.add_option("--width", o.width, "Image width, pixels")->check(CLI::Range(16, 8192));
-  app.add_option("--height", o.height, "Image height, pixels")->check(CLI::Range(16, 8192));
+  // At least 16 pixels for the demos' captions; at most the renderer's limit, as dqkit render.
+  app.add_option("--width", o.width, "Image width, pixels")->check(CLI::Range(16, render::max_image_side));
+  app.add_option("--height", o.height, "Image height, pixels")->check(CLI::Range(16, render::max_image_side));
   app.add_option("--quit-after", o.quit_after, "Window: close after this many frames (0: never)")
       ->check(cli::whole_number_up_to(1u << 30))
       ->excludes(headless);

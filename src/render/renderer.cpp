@@ -205,8 +205,8 @@ Expected<Renderer> Renderer::create(const RenderOptions& options) { return make(
 Expected<Renderer> Renderer::create_window(const RenderOptions& options, const std::string& title) { return make(options, &title); }
 
 Expected<Renderer> Renderer::make(const RenderOptions& options, const std::string* window_title) {
-  if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
-    return Error{"rendering: the image size must be between 1 and 16384 pixels on each side"};
+  if (options.width < 1 || options.height < 1 || options.width > max_image_side || options.height > max_image_side)
+    return Error{"rendering: the image size must be between 1 and " + std::to_string(max_image_side) + " pixels on each side"};
   if (options.samples < 1 || options.samples > 16) return Error{"rendering: samples must be between 1 and 16"};
   Expected<std::unique_ptr<detail::Context>> context =
       window_title ? detail::create_window(options.width, options.height, *window_title) : detail::create_headless();

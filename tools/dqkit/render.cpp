@@ -205,8 +205,8 @@ Runner define_render(CLI::App& c) {
   c.add_option("--method", a->method, "lbs, dqs, cor, or all: the three side by side (LBS, DQS, CoR from the left)")
       ->check(CLI::IsMember({"lbs", "dqs", "cor", "all"}));
   CLI::Option* out = c.add_option("--out", a->output, "PNG file to write (required unless --window)")->check(file_name());
-  c.add_option("--width", a->width, "Image width in pixels (default 1200 for all, else 800)")->check(CLI::Range(1, 16384));
-  c.add_option("--height", a->height, "Image height in pixels (default 400 for all, else 600)")->check(CLI::Range(1, 16384));
+  c.add_option("--width", a->width, "Image width in pixels (default 1200 for all, else 800)")->check(CLI::Range(1, render::max_image_side));
+  c.add_option("--height", a->height, "Image height in pixels (default 400 for all, else 600)")->check(CLI::Range(1, render::max_image_side));
   c.add_option("--camera", a->camera, "Orbit camera 'yaw,pitch[,distance]', degrees (default 35,20 at the distance that frames the whole animation)");
   c.add_flag("--skeleton", a->skeleton, "Draw the bones as lines over the skin");
   c.add_flag("--force", a->force, "Replace the output files if they exist");

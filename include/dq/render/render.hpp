@@ -124,8 +124,11 @@ inline constexpr double orbit_radians_per_pixel = 0.01;
 inline constexpr double orbit_max_pitch = 1.5;  ///< radians (86°): at ±90° the view's up is undefined
 void orbit(Camera& camera, const WindowInput& input);
 
+/// The largest image side the renderer takes (llvmpipe's and most GPUs' framebuffer limit).
+inline constexpr int max_image_side = 16384;
+
 struct RenderOptions {
-  int width = 800, height = 600;
+  int width = 800, height = 600;  ///< 1 to max_image_side
   int samples = 4;  ///< multisampling (1: none, so that tests can count exact pixels)
   Color background{1.0f, 1.0f, 1.0f, 1.0f};
 };
