@@ -186,6 +186,7 @@ void bind_files(py::module_& m) {
         return "BvhFile(" + std::to_string(b.joints.size()) + " joints, " + std::to_string(b.frame_count) + " frames)";
       });
   m.def("read_bvh_file", [](const std::filesystem::path& path) {
+    require_existing(path);
     dq::Expected<dq::BvhFile> r = [&] { py::gil_scoped_release release; return dq::read_bvh_file(path); }();
     return unwrap(std::move(r));
   }, py::arg("path"), "Reads a BVH file; raises ReadError with 'file:line: what'.");
@@ -234,6 +235,7 @@ void bind_files(py::module_& m) {
       .def_readonly("animation_count", &dq::Motion::animation_count)
       .def_readonly("warnings", &dq::Motion::warnings);
   m.def("load_motion", [](const std::filesystem::path& path, const dq::MotionOptions& o) {
+    require_existing(path);
     dq::Expected<dq::Motion> r = [&] { py::gil_scoped_release release; return dq::load_motion(path, o); }();
     return unwrap(std::move(r));
   }, py::arg("path"), py::arg("options") = dq::MotionOptions{}, "A BVH file's motion (other formats: import_motion).");
@@ -275,10 +277,12 @@ void bind_import(py::module_& m) {
   // Imports run in the spawned dqkit-import-worker (posix_spawn, never a fork of the interpreter);
   // the package points DQKIT_IMPORT_WORKER at its own copy (dqkit/__init__.py).
   m.def("import_scene", [](const std::filesystem::path& path, const dq::ImportOptions& o) {
+    require_existing(path);
     dq::Expected<dq::ImportedScene> r = [&] { py::gil_scoped_release release; return dq::import_scene(path, o); }();
     return unwrap(std::move(r));
   }, py::arg("path"), py::arg("options") = dq::ImportOptions{}, "Imports a model (glTF, FBX, Collada, X, ...) in the isolated worker.");
   m.def("import_motion", [](const std::filesystem::path& path, const dq::MotionOptions& o) {
+    require_existing(path);
     dq::Expected<dq::Motion> r = [&] { py::gil_scoped_release release; return dq::import_motion(path, o); }();
     return unwrap(std::move(r));
   }, py::arg("path"), py::arg("options") = dq::MotionOptions{}, "The motion of any importable file (BVH through load_motion).");

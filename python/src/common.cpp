@@ -68,6 +68,18 @@ py::array_t<std::int64_t, py::array::c_style> as_integers(py::handle obj, int nd
       py::module_::import("numpy").attr("ascontiguousarray")(any, py::dtype::of<std::int64_t>()).release());
 }
 
+void require_existing(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::exists(std::filesystem::symlink_status(path, ec)) || ec != std::errc::no_such_file_or_directory) return;
+  PyObject* name = PyUnicode_DecodeFSDefault(path.c_str());
+  if (!name) throw py::error_already_set();
+  PyObject* args = Py_BuildValue("(isN)", ENOENT, std::strerror(ENOENT), name);
+  if (!args) throw py::error_already_set();
+  PyErr_SetObject(PyExc_FileNotFoundError, args);
+  Py_DECREF(args);
+  throw py::error_already_set();
+}
+
 Dtype call_dtype(py::handle first, const char* name) {
   return py::isinstance<py::array>(first) ? dtype_of(py::reinterpret_borrow<py::array>(first), name) : Dtype::f64;
 }

@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <cstring>
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -43,6 +44,11 @@ struct WriteError : std::runtime_error {
 inline void check_written(const dq::Status& s) {
   if (!s) throw WriteError(s.error().message);
 }
+/// FileNotFoundError (errno ENOENT, the path as its filename) when nothing is at `path`, as
+/// Python's open() raises: readers are caught with `except OSError` like any file function. Other
+/// problems with the file are the library's ReadError, with its message.
+void require_existing(const std::filesystem::path& path);
+
 /// A value for a writer, or ValueError with the reason it cannot be written.
 template <class T>
 T writable(dq::Expected<T>&& e) {

@@ -1,4 +1,5 @@
 """Skeletons, batch forward kinematics, BVH files, import, IK and skinning from Python."""
+import errno
 import os
 import subprocess
 import sys
@@ -79,8 +80,12 @@ def test_bvh_errors_name_file_and_line(tmp_path):
     bad.write_text("HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 x\n")
     with pytest.raises(dqkit.ReadError, match=r"bad\.bvh:4: expected a finite number, found 'x'"):
         dqkit.read_bvh_file(str(bad))
-    with pytest.raises(ValueError):  # ReadError is a ValueError
+    # Nothing there: FileNotFoundError, as open() raises (an OSError, with errno and filename).
+    with pytest.raises(FileNotFoundError) as missing:
         dqkit.read_bvh_file(str(tmp_path / "missing.bvh"))
+    assert missing.value.errno == errno.ENOENT and missing.value.filename == str(tmp_path / "missing.bvh")
+    with pytest.raises(ValueError):  # ReadError is a ValueError
+        dqkit.read_bvh_file(str(bad))
     with pytest.raises(dqkit.ReadError, match="mine.bvh:"):
         dqkit.read_bvh("HIERARCHY\nROOT\n", "mine.bvh")
 
@@ -135,8 +140,12 @@ def test_import_runs_the_packaged_worker_without_forking():
     scene = dqkit.import_scene(str(need(SIMPLE_SKIN))) if dqkit.HAVE_IMPORT else pytest.skip("built without Assimp")
     assert len(scene.skeleton) > 0 and scene.meshes and scene.animations
     assert os.path.exists(os.environ["DQKIT_IMPORT_WORKER"])
-    with pytest.raises(dqkit.ReadError, match="nothing.gltf"):
+    with pytest.raises(FileNotFoundError, match="nothing.gltf"):
         dqkit.import_scene("/nonexistent/nothing.gltf")
+    with pytest.raises(FileNotFoundError):
+        dqkit.import_motion("/nonexistent/nothing.gltf")
+    with pytest.raises(FileNotFoundError):
+        dqkit.load_motion("/nonexistent/nothing.bvh")
 
 
 def test_ik_reaches_a_target():

@@ -105,9 +105,14 @@ def test_values_are_sequences_and_scalars_multiply_them():
 
 
 def test_messages_with_file_names_that_are_not_utf8_keep_their_text(tmp_path):
-    with pytest.raises(dqkit.ReadError) as error:
-        dqkit.read_bvh_file(bytes(tmp_path) + b"/\xff\xfe.bvh")
-    assert "\\xff\\xfe.bvh" in str(error.value)
+    name = bytes(tmp_path) + b"/\xff\xfe.bvh"
+    with open(name, "wb") as f:
+        f.write(b"HIERARCHY\nROOT\n")
+    with pytest.raises(dqkit.ReadError) as error:  # its message was empty
+        dqkit.read_bvh_file(name)
+    assert "\\xff\\xfe.bvh:2:" in str(error.value)
+    with pytest.raises(FileNotFoundError):
+        dqkit.read_bvh_file(bytes(tmp_path) + b"/\xff.bvh")
 
 
 def test_copies_returned_by_properties_are_read_only():
