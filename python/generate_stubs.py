@@ -94,7 +94,7 @@ def emit_class(name, cls):
     for attr, value in cls.__dict__.items():
         if attr.startswith("_") and attr not in ("__init__", "__repr__", "__eq__", "__iter__", "__len__", "__array__",
                                                  "__add__", "__sub__", "__mul__", "__rmul__", "__truediv__", "__neg__",
-                                                 "__radd__", "__rsub__", "__rtruediv__", "__contains__"):
+                                                 "__radd__", "__rsub__", "__rtruediv__", "__contains__", "__getitem__"):
             continue
         if isinstance(value, property):
             sig = signatures(value.fget)[0][0]

@@ -332,16 +332,17 @@ TEST(IkSolver, InvalidInputIsAnErrorAndLeavesQUntouched) {
   for (const auto& [change, what] : std::initializer_list<std::pair<void (*)(IkOptions&), const char*>>{
            {[](IkOptions& o) { o.max_iterations = -1; }, "max_iterations"},
            {[](IkOptions& o) { o.max_restarts = -1; }, "max_restarts"},
-           {[](IkOptions& o) { o.position_tolerance = std::nan(""); }, "tolerances"},
+           {[](IkOptions& o) { o.position_tolerance = std::nan(""); }, "position_tolerance"},
+           {[](IkOptions& o) { o.orientation_tolerance = HUGE_VAL; }, "orientation_tolerance"},
            {[](IkOptions& o) { o.initial_damping = 0; }, "initial_damping"},
            {[](IkOptions& o) { o.rest_weight = -1; }, "rest_weight"},
            {[](IkOptions& o) { o.method = static_cast<IkMethod>(7); }, "method"}}) {
     IkOptions options;
     change(options);
     IkSolver with(arm, options);
-    const IkResult r = with.solve(std::span(&reachable, 1), q);
-    EXPECT_EQ(r.status, IkStatus::invalid_input) << what;
-    EXPECT_NE(std::string(r.message).find(what), std::string::npos) << r.message;
+    const IkResult refused = with.solve(std::span(&reachable, 1), q);
+    EXPECT_EQ(refused.status, IkStatus::invalid_input) << what;
+    EXPECT_NE(std::string(refused.message).find(what), std::string::npos) << refused.message;
     EXPECT_EQ(q, before) << what;
   }
 }

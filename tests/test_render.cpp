@@ -156,7 +156,7 @@ TEST(Render, CaptionsLandWhereTheViewPutsThoseCoordinates) {
     add_overlay_text(caption, camera, aspect, "A CAPTION FAR TOO LONG FOR ANY VIEW OF THIS SIZE", -0.95, 0.8, 0.2);
     ASSERT_FALSE(caption.points.empty());
     double right = -1e9;
-    for (const Vec3<float>& q : caption.points) right = std::max(right, project(camera, w, h, {q.x, q.y, q.z}).x);
+    for (const Vec3<float>& q : caption.points) right = std::max(right, project(camera, w, h, {double(q.x), double(q.y), double(q.z)}).x);
     EXPECT_LE(right, (0.95 + 1) / 2 * w + 1e-6 * w);
     EXPECT_GT(right, 0.8 * w);  // shrunk to fit, not to nothing
   }

@@ -22,20 +22,22 @@ inline CLI::Validator finite_in(double low, double high) {
       "NUMBER in (" + CLI::detail::to_string(low) + ", " + CLI::detail::to_string(high) + "]");
 }
 
-/// A whole number in [0, high], digits only (CLI11 reads "-1" into an unsigned as 2^64 − 1);
+/// A whole number in [low, high], digits only (CLI11 reads "-1" into an unsigned as 2^64 − 1);
 /// `what` names it in the error ("'-1' is not an animation number (0, 1, ...)"), `name` in the help.
 inline CLI::Validator whole_number_up_to(unsigned long long high, const std::string& what = "a whole number",
-                                         const std::string& name = "NUMBER") {
+                                         const std::string& name = "NUMBER", unsigned long long low = 0) {
   return CLI::Validator(
-      [high, what](std::string& text) -> std::string {
+      [high, low, what](std::string& text) -> std::string {
         unsigned long long v = 0;
         const char* end = text.data() + text.size();
         const auto r = std::from_chars(text.data(), end, v);
-        if (text.empty() || r.ec != std::errc() || r.ptr != end) return "'" + text + "' is not " + what + " (0, 1, ...)";
+        if (text.empty() || r.ec != std::errc() || r.ptr != end)
+          return "'" + text + "' is not " + what + " (" + std::to_string(low) + ", " + std::to_string(low + 1) + ", ...)";
         if (v > high) return "'" + text + "' is more than " + std::to_string(high);
+        if (v < low) return "'" + text + "' is less than " + std::to_string(low);
         return {};
       },
-      high == ~0ull ? name : name + " in [0, " + std::to_string(high) + "]");
+      high == ~0ull && low == 0 ? name : name + " in [" + std::to_string(low) + ", " + std::to_string(high) + "]");
 }
 
 }  // namespace dq::cli

@@ -67,8 +67,12 @@ py::array map2(py::handle a, py::handle b, const char* na, const char* nb, const
 template <class T>
 py::object interpolation_parameter(const py::object& t) {
   if ((py::isinstance<py::array>(t) && py::array(t).ndim() > 0) || PyList_Check(t.ptr()) || PyTuple_Check(t.ptr())) return t;
-  if (py::isinstance<py::str>(t) || !PyNumber_Check(t.ptr()))
-    throw py::type_error("t: expected a number or an (N,) array of numbers, got " + py::str(py::type::of(t).attr("__name__")).cast<std::string>());
+  // A number: Python's or NumPy's (a 0-d array or a scalar), real (a complex one would lose its
+  // imaginary part with a mere warning).
+  const std::string kind = py::hasattr(t, "dtype") ? t.attr("dtype").attr("kind").cast<std::string>() : std::string();
+  const bool real = kind.empty() ? !PyComplex_Check(t.ptr()) : kind == "f" || kind == "i" || kind == "u" || kind == "b";
+  if (py::isinstance<py::str>(t) || !real || (kind.empty() && !PyNumber_Check(t.ptr())))
+    throw py::type_error("t: expected a real number or an (N,) array of numbers, got " + py::str(py::type::of(t).attr("__name__")).cast<std::string>());
   const T value = static_cast<T>(py::float_(t).cast<double>());
   return py::array_t<T>(std::vector<py::ssize_t>{}, &value);
 }
@@ -94,8 +98,8 @@ py::array map3(py::handle a, py::handle b, const py::object& t, const char* na, 
   });
 }
 
-/// (N, 8) unit dual quaternions of (N, 4, 4) rigid transforms (the batch form of from_matrix,
-/// which dispatches on the number of dimensions).
+/// (..., 8) unit dual quaternions of (..., 4, 4) or (..., 3, 4) rigid transforms (the batch form
+/// of from_matrix, which dispatches on the number of dimensions).
 py::array from_matrix_rows(const py::array& matrices);
 
 }  // namespace dqpy

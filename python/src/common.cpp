@@ -64,13 +64,15 @@ py::array_t<std::int64_t, py::array::c_style> as_integers(py::handle obj, int nd
   if (any.ndim() != ndim) throw py::value_error(what + ", got shape " + shape_of(any));
   const std::string kind = any.attr("dtype").attr("kind").cast<std::string>();
   if (any.size() > 0 && kind != "i" && (signed_only || kind != "u")) throw py::value_error(what + ", got dtype " + py::str(any.dtype()).cast<std::string>());
+  if (any.size() > 0 && kind == "u" && any.attr("max")().cast<unsigned long long>() > static_cast<unsigned long long>(INT64_MAX))
+    throw py::value_error(what + ", got a value beyond 2**63 - 1");  // the int64 cast would wrap it
   return py::reinterpret_steal<py::array_t<std::int64_t, py::array::c_style>>(
       py::module_::import("numpy").attr("ascontiguousarray")(any, py::dtype::of<std::int64_t>()).release());
 }
 
 void require_existing(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::exists(std::filesystem::symlink_status(path, ec)) || ec != std::errc::no_such_file_or_directory) return;
+  std::error_code ec;  // through symbolic links: a dangling one has nothing there
+  if (std::filesystem::exists(std::filesystem::status(path, ec)) || (ec && ec != std::errc::no_such_file_or_directory)) return;
   PyObject* name = PyUnicode_DecodeFSDefault(path.c_str());
   if (!name) throw py::error_already_set();
   PyObject* args = Py_BuildValue("(isN)", ENOENT, std::strerror(ENOENT), name);

@@ -100,19 +100,29 @@ inline py::array read_only(py::array a) {
 
 /// py::enum_ whose constructor refuses an integer that names no member: pybind11's takes any
 /// (EulerOrder(99) would reach the library as a value outside the enumeration).
+/// Unpickling (__setstate__) is checked the same way.
 template <class E>
 class Enum : public py::enum_<E> {
  public:
   template <class... Extra>
   Enum(const py::handle& scope, const char* name, const Extra&... extra) : py::enum_<E>(scope, name, extra...) {
     py::delattr(*this, "__init__");
-    this->def(py::init([](std::underlying_type_t<E> value) {
-      const py::object enum_type = py::type::of<E>();
-      for (const auto& member : enum_type.attr("__members__").template cast<py::dict>())
-        if (member.second.template cast<E>() == static_cast<E>(value)) return static_cast<E>(value);
-      throw py::value_error(std::to_string(value) + " is not a " + enum_type.attr("__name__").template cast<std::string>() + " (its members: " +
-                            py::str(py::list(enum_type.attr("__members__").attr("keys")())).template cast<std::string>() + ")");
-    }), py::arg("value"));
+    this->def(py::init([](typename py::enum_<E>::Scalar value) { return member(value); }), py::arg("value"));
+    // As pybind11's own __setstate__ of an enum, with the check.
+    this->attr("__setstate__") = py::cpp_function(
+        [](py::detail::value_and_holder& v_h, typename py::enum_<E>::Scalar state) {
+          py::detail::initimpl::setstate<py::class_<E>>(v_h, member(state), Py_TYPE(v_h.inst) != v_h.type->type);
+        },
+        py::detail::is_new_style_constructor(), py::name("__setstate__"), py::is_method(*this), py::arg("state"));
+  }
+
+ private:
+  static E member(typename py::enum_<E>::Scalar value) {
+    const py::object enum_type = py::type::of<E>();
+    for (const auto& m : enum_type.attr("__members__").template cast<py::dict>())
+      if (m.second.template cast<E>() == static_cast<E>(value)) return static_cast<E>(value);
+    throw py::value_error(std::to_string(value) + " is not a " + enum_type.attr("__name__").template cast<std::string>() + " (its members: " +
+                          py::str(py::list(enum_type.attr("__members__").attr("keys")())).template cast<std::string>() + ")");
   }
 };
 

@@ -270,7 +270,8 @@ void bind_conversions(py::module_& m) {
   m.def("to_mat34", [](const DQ& q) { return mat_to_numpy(dq::to_mat34(q)); }, py::arg("q"), "The top three rows of to_mat4.");
   m.def("from_matrix", [](py::handle mat) -> py::object {
           const auto a = py::array::ensure(mat);
-          if (a && a.ndim() >= 3) return from_matrix_rows(a);
+          if (a && a.ndim() >= 3)  // lists take float64, as in every batch call
+            return from_matrix_rows(py::isinstance<py::array>(mat) ? a : py::array(as_float64(mat, std::vector<py::ssize_t>(static_cast<std::size_t>(a.ndim()), -1), "matrix")));
           if (a && a.ndim() == 2 && a.shape(0) == 3 && a.shape(1) == 4) return py::cast(dq::from_matrix(mat_from_numpy<3, 4>(mat)));
           if (a && a.ndim() == 2 && a.shape(0) == 4 && a.shape(1) == 4) return py::cast(dq::from_matrix(mat_from_numpy<4, 4>(mat)));
           throw py::value_error("matrix: expected shape (..., 4, 4) or (..., 3, 4)");
@@ -338,9 +339,10 @@ void bind_values(py::module_& m) {
   bind_quaternion(m);
   bind_dual_quaternion(m);
   bind_conversions(m);
-  // NumPy would take np.float64(2) * q through q.__array__ and answer an ndarray: with
-  // __array_ufunc__ = None its operators defer to the value's own (q.__rmul__ here).
-  for (const char* name : {"Quaternion", "DualQuaternion"}) m.attr(name).attr("__array_ufunc__") = py::none();
+  // NumPy would take np.float64(2) * q through q.__array__ and answer an ndarray: a higher
+  // __array_priority__ makes its scalars' and arrays' operators defer to the value's own
+  // (q.__rmul__ here), while ufuncs (np.abs(q)) still read the components through __array__.
+  for (const char* name : {"Quaternion", "DualQuaternion"}) m.attr(name).attr("__array_priority__") = 1000;
 }
 
 }  // namespace dqpy

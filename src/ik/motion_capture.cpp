@@ -132,7 +132,7 @@ Expected<FixFeetReport> fix_foot_sliding(BvhFile& bvh, const FixFeetOptions& opt
   if (!(bvh.frame_time > 0)) return Error{"the frame time must be positive"};
   if (std::isnan(options.height) || std::isnan(options.speed) || options.height == std::numeric_limits<double>::infinity() ||
       options.speed == std::numeric_limits<double>::infinity())
-    return Error{"the contact height and speed must be finite (negative: chosen from the leg's length)"};
+    return Error{"the contact height and speed must be numbers below infinity (negative: chosen from the leg's length)"};
   if (options.min_contact_frames < 1 || options.merge_gap_frames < 0 || options.blend_frames < 0)
     return Error{"min_contact_frames must be 1 or more, merge_gap_frames and blend_frames 0 or more"};
   Expected<BvhKinematics> kin = bvh_kinematics(bvh);

@@ -397,10 +397,13 @@ IkResult BasicIkSolver<X>::solve(std::span<const IkTask> requested, std::span<do
     return result;
   };
   const IkOptions& o = options_;
-  if (o.max_iterations < 1 || o.max_restarts < 0) return invalid("options: max_iterations must be 1 or more, max_restarts 0 or more");
-  if (!(o.position_tolerance >= 0 && o.orientation_tolerance >= 0 && o.initial_damping > 0 && o.rest_weight >= 0) ||
-      !std::isfinite(o.position_tolerance + o.orientation_tolerance + o.initial_damping + o.rest_weight))
-    return invalid("options: the tolerances and rest_weight must be finite and 0 or more, initial_damping finite and positive");
+  const auto finite_from = [](double v, double low, bool open) { return std::isfinite(v) && (open ? v > low : v >= low); };
+  if (o.max_iterations < 1) return invalid("options: max_iterations must be 1 or more");
+  if (o.max_restarts < 0) return invalid("options: max_restarts must be 0 or more");
+  if (!finite_from(o.position_tolerance, 0, false) || !finite_from(o.orientation_tolerance, 0, false))
+    return invalid("options: position_tolerance and orientation_tolerance must be finite and 0 or more");
+  if (!finite_from(o.initial_damping, 0, true)) return invalid("options: initial_damping must be finite and positive");
+  if (!finite_from(o.rest_weight, 0, false)) return invalid("options: rest_weight must be finite and 0 or more");
   if (o.method != IkMethod::levenberg_marquardt && o.method != IkMethod::newton && o.method != IkMethod::gauss_seidel)
     return invalid("options: method is not an IkMethod");
   if (q_io.size() != n) return invalid("q must have one value per model parameter");

@@ -371,8 +371,8 @@ Expected<ImportedScene> import_scene(const std::filesystem::path& path, const Im
   if (std::filesystem::is_directory(status)) return Error{path.string() + ": is a directory"};
   // A FIFO would hold the importer until its wall-clock limit; a device could be endless.
   if (Status s = refuse_special_file(path); !s) return s.error();
-  if (!(options.timeout_seconds > 0)) return Error{path.string() + ": ImportOptions::timeout_seconds must be positive"};
   if (!options.isolate) return detail::import_file_in_process(path, options);
+  if (!(options.timeout_seconds > 0)) return Error{path.string() + ": ImportOptions::timeout_seconds must be positive"};
   return detail::run_isolated(detail::make_request(false, path.string(), {}, options), path.string(), options);
 }
 

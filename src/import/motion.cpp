@@ -9,6 +9,7 @@ Expected<Motion> import_motion(const std::filesystem::path& path, const MotionOp
   // A device, FIFO or socket is refused before the BVH sniffing opens it.
   if (Status s = refuse_special_file(path); !s) return s.error();
   if (is_bvh_file(path) || has_bvh_extension(path)) return load_motion(path, options);
+  if (!(options.import_timeout > 0)) return Error{path.string() + ": MotionOptions::import_timeout must be positive"};
   ImportOptions io;
   io.sample_rate = options.sample_rate > 0 ? options.sample_rate : 30;
   io.timeout_seconds = options.import_timeout;

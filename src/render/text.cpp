@@ -99,6 +99,7 @@ void add_overlay_text(Lines& lines, const Camera& c, double aspect, std::string_
   const Vec3<double> right = overlay_point(c, aspect, u + 1, v) - origin, up = overlay_point(c, aspect, u, v + 1) - origin;
   double world_height = height * norm(up);
   const double room = (0.95 - u) * norm(right), width = text_width(text, world_height);
+  if (!(room > 0)) return;  // starting at or past the margin: no room (a negative scale would mirror it)
   if (width > room && width > 0) world_height *= room / width;
   add_text(lines.points, text, origin, right, up, world_height);
 }

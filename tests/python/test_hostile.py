@@ -30,12 +30,14 @@ def test_values_that_are_not_numbers_raise_value_error(call):
 
 
 def test_a_copy_too_large_for_memory_raises_memory_error():
-    # A broadcast view of 10^11 rows costs nothing until it is made contiguous (6.4 TB).
-    huge = np.broadcast_to(np.array(IDENTITY), (10**11, 8))
+    # A broadcast view costs nothing until it is made contiguous.
+    # Beyond the 2**47 bytes of a process's address space, so that no overcommit setting lets the
+    # allocation start (and fill the machine's memory): MemoryError on every machine.
+    huge = np.broadcast_to(np.array(IDENTITY), (10**13, 8))
     with pytest.raises(MemoryError):
         dqkit.normalized(huge)
     with pytest.raises(MemoryError):
-        dqkit.local_to_model(np.broadcast_to(np.array([-1]), (10**12,)), np.array([IDENTITY]))
+        dqkit.local_to_model(np.broadcast_to(np.array([-1]), (10**14,)), np.array([IDENTITY]))
 
 
 def test_indices_outside_the_skeleton_or_the_file_raise_index_error():
@@ -75,6 +77,12 @@ def test_enum_values_outside_the_enumeration_are_refused():
         with pytest.raises(ValueError, match=f"{value} is not a {enum.__name__}"):
             enum(value)
     assert dqkit.EulerOrder(int(dqkit.EulerOrder.ZYX)) == dqkit.EulerOrder.ZYX
+    # Nor through pickle, whose state is the integer.
+    import pickle
+    assert pickle.loads(pickle.dumps(dqkit.EulerOrder.XZY)) == dqkit.EulerOrder.XZY
+    forged = dqkit.EulerOrder.__new__(dqkit.EulerOrder)  # what unpickling does, with a state of 99
+    with pytest.raises(ValueError, match="99 is not a EulerOrder"):
+        forged.__setstate__(99)
 
 
 def test_interpolation_parameter_as_list_number_or_zero_d_array(rng):
@@ -85,8 +93,8 @@ def test_interpolation_parameter_as_list_number_or_zero_d_array(rng):
     q32, p32 = q.astype(np.float32), p.astype(np.float32)
     np.testing.assert_array_equal(dqkit.sclerp(q32, p32, np.array(0.5)), dqkit.sclerp(q32, p32, 0.5))
     np.testing.assert_array_equal(dqkit.sclerp(q32, p32, np.float64(0.5)), dqkit.sclerp(q32, p32, 0.5))
-    for bad in (None, "a", object()):
-        with pytest.raises(TypeError, match="t: expected a number"):
+    for bad in (None, "a", object(), 1j, np.complex128(1), np.array("x"), np.array(0.5j)):
+        with pytest.raises(TypeError, match="t: expected a real number"):
             dqkit.sclerp(q, p, bad)
 
 
@@ -100,8 +108,12 @@ def test_values_are_sequences_and_scalars_multiply_them():
     stacked = np.array([q, q])
     assert stacked.shape == (2, 8) and (stacked[1] == np.arange(1.0, 9.0)).all()
     np.testing.assert_array_equal(dqkit.normalized([q, q]), dqkit.normalized(stacked))
-    # A NumPy scalar on the left defers to the value's own product (it made an ndarray).
+    # A NumPy scalar on the left defers to the value's own product (it made an ndarray), and
+    # ufuncs still read the components.
     assert isinstance(np.float64(2) * q, dqkit.DualQuaternion) and np.float64(2) * q == q * 2.0
+    assert isinstance(np.float32(2) * r, dqkit.Quaternion)
+    np.testing.assert_array_equal(np.abs(-q), np.arange(1.0, 9.0))
+    assert np.sum(r) == 10.0
 
 
 def test_messages_with_file_names_that_are_not_utf8_keep_their_text(tmp_path):
@@ -143,6 +155,8 @@ def test_parameters_out_of_range_are_refused():
         dqkit.build_skin(np.zeros((1, 3)), [[0.0]], [[1.0]], np.eye(4)[None])
     with pytest.raises(ValueError, match="triangles: triangle 0 names vertex 5 of 1"):
         dqkit.build_skin(np.zeros((1, 3)), [[0]], [[1.0]], np.eye(4)[None], triangles=[[0, 0, 5]])
+    with pytest.raises(ValueError, match=r"beyond 2\*\*63 - 1"):  # not wrapped to −1
+        dqkit.build_skin(np.zeros((1, 3)), np.array([[2**64 - 1]], np.uint64), [[1.0]], np.eye(4)[None])
     model = dqkit.KinematicModel.arm7()
     options = dqkit.IkOptions()
     options.max_iterations = -1
@@ -158,7 +172,7 @@ def test_motion_capture_options_and_frames_are_checked():
         k.to_parameters(np.zeros(500))
     options = dqkit.FixFeetOptions()
     options.height = float("nan")
-    with pytest.raises(dqkit.ReadError, match="height and speed must be finite"):
+    with pytest.raises(dqkit.ReadError, match="height and speed must be numbers below infinity"):
         dqkit.fix_foot_sliding(bvh, options)
     options = dqkit.FixFeetOptions()
     options.feet = ["NoSuchToe"]
@@ -171,3 +185,12 @@ def test_batch_from_matrix_takes_three_by_four(rng):
     q, _, _ = random_rigid(rng, 6)
     m = dqkit.to_mat4(q)
     np.testing.assert_array_equal(dqkit.from_matrix(m[:, :3, :]), dqkit.from_matrix(m))
+    # Lists of integers, as every batch input: float64 (they were refused as int64).
+    turns = [[[0, -1, 0, 1], [1, 0, 0, 2], [0, 0, 1, 3], [0, 0, 0, 1]]] * 2
+    np.testing.assert_array_equal(dqkit.from_matrix(turns), dqkit.from_matrix(np.array(turns, float)))
+
+
+def test_a_dangling_link_is_a_missing_file(tmp_path):
+    (tmp_path / "gone.bvh").symlink_to(tmp_path / "nothing.bvh")
+    with pytest.raises(FileNotFoundError):
+        dqkit.read_bvh_file(str(tmp_path / "gone.bvh"))

@@ -30,7 +30,7 @@ int run_command(const Arguments& a) {
 
 namespace {
 int fail(const std::string& message) {
-  std::fprintf(stderr, "dqkit: %s\n", message.c_str());
+  std::fprintf(stderr, "dqkit: %s\n", printable(message).c_str());
   return 1;
 }
 }  // namespace

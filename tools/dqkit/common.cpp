@@ -20,7 +20,14 @@
 namespace dq::cli {
 
 void print_warnings(const std::vector<std::string>& warnings) {
-  for (const std::string& w : warnings) std::fprintf(stderr, "dqkit: warning: %s\n", w.c_str());
+  for (const std::string& w : warnings) std::fprintf(stderr, "dqkit: warning: %s\n", printable(w).c_str());
+}
+
+std::string printable(std::string_view text) {
+  std::string out(text);
+  for (char& c : out)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  return out;
 }
 
 CLI::Validator animation_index() { return whole_number_up_to(std::numeric_limits<std::size_t>::max(), "an animation number", "INDEX"); }
@@ -41,8 +48,7 @@ void add_input_options(CLI::App& c, InputOptions& o, const std::string& option_n
   c.add_option("--import-timeout", o.import_timeout, "Seconds before the importer (a separate process) is abandoned")
       ->check(finite_in(0, 86400));
   c.add_option("--memory-limit", o.memory_limit_mb, "MB the animation may take (frames x joints x 64 bytes; default 4096)")
-      ->check(whole_number_up_to(std::size_t{1} << 30, "a whole number of megabytes"))
-      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
+      ->check(whole_number_up_to(std::size_t{1} << 30, "a whole number of megabytes", "MB", 1));
 }
 
 bool is_stdout(const std::string& path) { return path.empty() || path == "-"; }

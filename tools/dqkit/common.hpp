@@ -65,6 +65,10 @@ class Output {
 /// "-" or empty: standard output.
 bool is_stdout(const std::string& path);
 
+/// Text as the terminal gets it: control characters (an escape sequence in a joint's name would
+/// reach the terminal) as '?'; UTF-8 kept. For the text report, warnings and errors.
+std::string printable(std::string_view text);
+
 /// Adds --format FORMAT (one of `formats`, the first the default) and returns the function that
 /// gives the format to write to `output`: --format when given, else the output name's extension
 /// when it names one (out.json: json; .txt: text), else the default. --format naming another of

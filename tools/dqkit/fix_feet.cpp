@@ -56,7 +56,8 @@ Runner define_fix_feet(CLI::App& c) {
   c.add_flag("--force", args->force, "Replace the output file if it exists (a regular file only)");
   c.add_option("--feet", args->feet, "Foot joints, comma-separated (default: found by name: Toe, else Foot, else Ankle)")
       ->delimiter(',')
-      ->allow_extra_args(false);  // one value (with commas): the arguments after it stay arguments
+      ->allow_extra_args(false)
+      ->type_name("JOINT[,JOINT...]");  // one value (with commas): the arguments after it stay arguments
   c.add_option("--height", args->options.height, "Contact when the foot is this far above its lowest point at most (file units; default 0.1 leg lengths)")
       ->check(finite_in(0, 1e12));
   c.add_option("--speed", args->options.speed, "... and slower than this (file units per second; default 1 leg length per second)")

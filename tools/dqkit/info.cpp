@@ -9,15 +9,6 @@ namespace dq::cli {
 
 namespace {
 
-/// A name as the text report prints it: control characters (an escape sequence would reach the
-/// terminal) as '?'; UTF-8 kept. JSON escapes them instead.
-std::string printable(std::string_view name) {
-  std::string out(name);
-  for (char& c : out)
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
-  return out;
-}
-
 struct InfoArgs {
   InputOptions input;
   std::function<std::string(const std::string&)> format;

@@ -28,7 +28,7 @@ Vec3<double> overlay_point(const Camera& camera, double aspect, double u, double
 
 /// A caption on that plane, its baseline starting at (u, v), `height` in the same units (2 is the
 /// view's height), made smaller where it would run past u = 0.95 (in a narrow view, text sized by
-/// the view's height alone would run into the next one).
+/// the view's height alone would run into the next one); from u ≥ 0.95 on, nothing is drawn.
 void add_overlay_text(Lines& lines, const Camera& camera, double aspect, std::string_view text, double u, double v, double height);
 
 }  // namespace dq::render
