@@ -366,8 +366,9 @@ inline Quaternion<float> hamilton_lanes(const Quaternion<float>& a, const Quater
 // Three-vectors in lanes 0-2 (x, y, z; lane 3 is carried along and dropped), for the rotation
 // and the point transform: a cross product a × b is a_yzx b_zxy − a_zxy b_yzx, lane by lane the
 // scalar cross's products and difference, so the results are the scalar formulas' bit for bit.
-// Lane 3 holds +0 in every operand, so it computes only 0 · 0 and 0 ± 0: it raises no
-// floating-point exception that the scalar formula does not (w · 0 there could, for w = ∞).
+// Lane 3 repeats lane 0 in every operand (x, y, z, x), so it computes lane 0's operations on lane
+// 0's values: it raises no floating-point exception that the scalar formula does not, and needs
+// no masking (zeros there took four bitwise ands and two loads more per point transform).
 static_assert(sizeof(Vec3<float>) == 3 * sizeof(float) && std::is_trivially_copyable_v<Vec3<float>>,
               "to_lanes and vec3_from_lanes copy x, y, z as three floats");
 [[gnu::always_inline]] inline float4 to_lanes(const Vec3<float>& v) noexcept {
@@ -376,28 +377,25 @@ static_assert(sizeof(Vec3<float>) == 3 * sizeof(float) && std::is_trivially_copy
   using float2 = float __attribute__((vector_size(8)));
   float2 xy;
   std::memcpy(&xy, &v, sizeof xy);
-  return __builtin_shufflevector(xy, float2{v.z, 0.0f}, 0, 1, 2, 3);
+  return __builtin_shufflevector(xy, float2{v.z, 0.0f}, 0, 1, 2, 0);
 }
 [[gnu::always_inline]] inline Vec3<float> vec3_from_lanes(const float4& r) noexcept {
   Vec3<float> v;
   std::memcpy(static_cast<void*>(&v), &r, sizeof v);
   return v;
 }
-/// A quaternion's parts, from its lanes (w, x, y, z): the vector part as (x, y, z, 0) and rotated,
-/// (y, z, x, 0) and (z, x, y, 0), and the scalar part as (w, w, w, 0). The zeros come from bitwise
-/// masks (no floating-point operation).
+/// A quaternion's parts, from its lanes (w, x, y, z): the vector part as (x, y, z, x) and rotated,
+/// (y, z, x, y) and (z, x, y, z), and the scalar part as (w, w, w, w).
 struct QuaternionParts {
   float4 xyz, yzx, zxy, w;
 };
 [[gnu::always_inline]] inline QuaternionParts parts(const float4& q) noexcept {
-  using int4 = std::int32_t __attribute__((vector_size(16)));
-  const int4 bits = __builtin_bit_cast(int4, q);
-  const float4 v = __builtin_bit_cast(float4, bits & int4{0, -1, -1, -1}), s = __builtin_bit_cast(float4, bits & int4{-1, 0, 0, 0});
-  return {__builtin_shufflevector(v, v, 1, 2, 3, 0), __builtin_shufflevector(v, v, 2, 3, 1, 0),
-          __builtin_shufflevector(v, v, 3, 1, 2, 0), __builtin_shufflevector(s, s, 0, 0, 0, 1)};
+  return {__builtin_shufflevector(q, q, 1, 2, 3, 1), __builtin_shufflevector(q, q, 2, 3, 1, 2),
+          __builtin_shufflevector(q, q, 3, 1, 2, 3), __builtin_shufflevector(q, q, 0, 0, 0, 0)};
 }
-[[gnu::always_inline]] inline float4 yzx(const float4& v) noexcept { return __builtin_shufflevector(v, v, 1, 2, 0, 3); }
-[[gnu::always_inline]] inline float4 zxy(const float4& v) noexcept { return __builtin_shufflevector(v, v, 2, 0, 1, 3); }
+/// (y, z, x, y) and (z, x, y, z) of a vector (x, y, z, x): lane 3 stays lane 0's.
+[[gnu::always_inline]] inline float4 yzx(const float4& v) noexcept { return __builtin_shufflevector(v, v, 1, 2, 0, 1); }
+[[gnu::always_inline]] inline float4 zxy(const float4& v) noexcept { return __builtin_shufflevector(v, v, 2, 0, 1, 2); }
 /// u × b for u a quaternion's vector part: u_yzx b_zxy − u_zxy b_yzx, lane by lane dq::cross.
 [[gnu::always_inline]] inline float4 cross_lanes(const QuaternionParts& u, const float4& b) noexcept {
   return u.yzx * zxy(b) - u.zxy * yzx(b);
