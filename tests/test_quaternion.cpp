@@ -368,6 +368,10 @@ TEST(Quaternion, FloatLanesRaiseNoExceptionTheScalarFormulaDoesNot) {
   // The lane forms compute a fourth lane that is dropped; it repeats lane 0 (x), so the flags
   // raised are the scalar formula's, also for infinities, NaNs and overflowing products (a fourth
   // lane holding w would raise invalid for w = ∞ times a zero that the formula never multiplies).
+  // Without the lane forms (DQKIT_VEC3_LANES 0: AVX2 builds) the scalar formula is the compiler's
+  // to vectorize, and GCC 12's vectorized code raises other flags than the formula's: not a
+  // property of dqkit's code, so not tested there.
+  if (!DQKIT_VEC3_LANES) GTEST_SKIP() << "the lane forms are not used in this build";
   std::mt19937 engine(12);
   std::normal_distribution<float> g;
   std::uniform_int_distribution<int> pick(0, 9);
