@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include "support.hpp"
 
@@ -283,22 +284,30 @@ TEST(Quaternion, FloatProductIsBitIdenticalToTheScalarFormula) {
   }
 }
 
+/// Random float components: with probability 1/`cases` each, one of `specials` (a value, or a
+/// scale for a normal deviate: huge and tiny components); otherwise a normal deviate.
+struct SpecialFloats {
+  struct Special {
+    float value;
+    bool scales = false;
+  };
+  std::mt19937 engine;
+  std::vector<Special> specials;
+  int cases;
+  std::normal_distribution<float> normal{};
+  float operator()() {
+    const auto k = static_cast<std::size_t>(std::uniform_int_distribution<int>(0, cases - 1)(engine));
+    if (k >= specials.size()) return normal(engine);
+    return specials[k].scales ? normal(engine) * specials[k].value : specials[k].value;
+  }
+};
+
 #if DQKIT_PRODUCT_EIGHT_LANES
 // Where the build targets AVX, DualQuaternion<float>'s product runs in eight lanes: every bit of
 // the four-lane form's result, signs of zeros included (memcmp, not ==), on random inputs with
 // components set to +0 and −0 and pairs that cancel exactly.
 TEST(Quaternion, EightLaneDualProductIsTheFourLaneOneBitForBit) {
-  std::mt19937 engine(8);
-  std::normal_distribution<float> g;
-  std::uniform_int_distribution<int> pick(0, 5);
-  auto component = [&] {
-    switch (pick(engine)) {
-      case 0: return 0.0f;
-      case 1: return -0.0f;
-      case 2: return 1.0f;
-      default: return g(engine);
-    }
-  };
+  SpecialFloats component{std::mt19937(8), {{0.0f}, {-0.0f}, {1.0f}}, 6};
   auto random = [&] { return Quaternion<float>(component(), component(), component(), component()); };
   for (int n = 0; n < 200000; ++n) {
     const DualQuaternion<float> a(random(), random()), b(random(), random());
@@ -331,18 +340,7 @@ TEST(Quaternion, EightLaneDualProductIsTheFourLaneOneBitForBit) {
 TEST(Quaternion, FloatRotationAndPointTransformAreBitIdenticalToTheScalarFormulas) {
   // For float both run x, y and z in the lanes of one vector; every bit must be the formula's,
   // signed zeros and infinities included (random inputs with zeros, huge and tiny components).
-  std::mt19937 engine(11);
-  std::normal_distribution<float> g;
-  std::uniform_int_distribution<int> pick(0, 15);
-  auto component = [&] {
-    switch (pick(engine)) {
-      case 0: return 0.0f;
-      case 1: return -0.0f;
-      case 2: return g(engine) * 1e30f;
-      case 3: return g(engine) * 1e-30f;
-      default: return g(engine);
-    }
-  };
+  SpecialFloats component{std::mt19937(11), {{0.0f}, {-0.0f}, {1e30f, true}, {1e-30f, true}}, 16};
   auto same = [](const Vec3<float>& a, const Vec3<float>& b) { return std::memcmp(&a, &b, sizeof a) == 0; };
   for (int n = 0; n < 200000; ++n) {
     const Quaternion<float> r(component(), component(), component(), component());
@@ -372,19 +370,8 @@ TEST(Quaternion, FloatLanesRaiseNoExceptionTheScalarFormulaDoesNot) {
   // to vectorize, and GCC 12's vectorized code raises other flags than the formula's: not a
   // property of dqkit's code, so not tested there.
   if (!DQKIT_VEC3_LANES) GTEST_SKIP() << "the lane forms are not used in this build";
-  std::mt19937 engine(12);
-  std::normal_distribution<float> g;
-  std::uniform_int_distribution<int> pick(0, 9);
-  auto component = [&] {
-    switch (pick(engine)) {
-      case 0: return 0.0f;
-      case 1: return std::numeric_limits<float>::infinity();
-      case 2: return -std::numeric_limits<float>::infinity();
-      case 3: return std::numeric_limits<float>::quiet_NaN();
-      case 4: return g(engine) * 1e30f;
-      default: return g(engine);
-    }
-  };
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  SpecialFloats component{std::mt19937(12), {{0.0f}, {inf}, {-inf}, {std::numeric_limits<float>::quiet_NaN()}, {1e30f, true}}, 10};
   using Rotate = Vec3<float> (*)(const Quaternion<float>&, const Vec3<float>&);
   using Transform = Vec3<float> (*)(const DualQuaternion<float>&, const Vec3<float>&);
   const Rotate rotate = [](const Quaternion<float>& q, const Vec3<float>& v) { return q.rotate(v); };
