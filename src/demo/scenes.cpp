@@ -448,6 +448,12 @@ std::vector<View> BipedDemo::views(int width, int height) const {
       text.points.push_back(to_float(render::overlay_point(v.camera, aspect, b.x, b.y)));
     }
     render::add_overlay_text(text, v.camera, aspect, "LOG10 ERR", x0 + 0.02, y1 - 0.05, 0.035);
+    for (const int tick : {0, -8, -16}) {  // the scale of the y axis: ticks and their values left of it
+      const double y = y0 + (y1 - y0) * (tick + 16) / 16.0;
+      text.points.push_back(to_float(render::overlay_point(v.camera, aspect, x0 - 0.012, y)));
+      text.points.push_back(to_float(render::overlay_point(v.camera, aspect, x0, y)));
+      render::add_overlay_text(text, v.camera, aspect, std::to_string(tick), -0.99, y - 0.014, 0.028);
+    }
     const std::size_t n = std::min<std::size_t>(e.size(), 150), first = e.size() - n;
     auto plot_point = [&](std::size_t i) {
       const double l = std::clamp(std::log10(std::max(e[first + i], 1e-16)), -16.0, 0.0);
