@@ -349,6 +349,9 @@ TEST_F(CliScript, RateIsHonoured) {
   r = run("convert " + p("still.bvh") + " " + p("still10.bvh") + " --rate 10");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_DOUBLE_EQ(read_bvh_file(dir_ / "still10.bvh")->frame_time, 0.1);
+  r = run("info " + p("still.bvh"));  // its MOTION section is an animation, of no frames
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("animations: 1\nframes: 0 (an empty animation: the rest pose)\n"), std::string::npos) << r.out;
   // A clip of two frames 1e-14 s apart keeps its last pose: 2 frames, the second the file's second.
   write("blink.bvh", "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 1 Xposition\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n"
                      "MOTION\nFrames: 2\nFrame Time: 1e-14\n0\n1\n");

@@ -143,6 +143,20 @@ TEST_F(SkinCli, InfoOfAModelWithoutAnimationSaysSo) {
   EXPECT_NE(r.out.find("frames: 0 (no animation: the rest pose)"), std::string::npos) << r.out;  // not a 30 Hz rate of nothing
 }
 
+TEST_F(SkinCli, LightsAndCamerasAreJointsOnlyWhenAsked) {
+  const auto joints = [](const std::string& info) { return std::stoul(info.substr(info.find("joints: ") + 8)); };
+  const Outcome left_out = run("info " + model("FBX/huesitos.fbx"));
+  ASSERT_EQ(left_out.code, 0) << left_out.err;
+  EXPECT_NE(left_out.err.find("light 'Lamp' is not a joint; left out (the option lights_and_cameras, dqkit's --lights-and-cameras, keeps it)"),
+            std::string::npos) << left_out.err;
+  const Outcome kept = run("info " + model("FBX/huesitos.fbx") + " --lights-and-cameras");
+  ASSERT_EQ(kept.code, 0) << kept.err;
+  EXPECT_EQ(kept.err.find("is not a joint"), std::string::npos) << kept.err;
+  EXPECT_EQ(joints(kept.out), joints(left_out.out) + 2);  // the lamp and the camera
+  const Outcome skinned = run("skin " + model("X/Testwuson.X") + " --lights-and-cameras --format csv -o " + (dir_ / "w.csv").string());
+  EXPECT_EQ(skinned.code, 0) << skinned.err;
+}
+
 TEST_F(SkinCli, ErrorsSayWhat) {
   Outcome r = run("render " + model("X/Testwuson.X") + " --out " + (dir_ / "x.jpg").string());
   EXPECT_EQ(r.code, 1);

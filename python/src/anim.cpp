@@ -226,7 +226,8 @@ void bind_files(py::module_& m) {
       .def_readwrite("animation", &dq::MotionOptions::animation)
       .def_readwrite("sample_rate", &dq::MotionOptions::sample_rate)
       .def_readwrite("import_timeout", &dq::MotionOptions::import_timeout)
-      .def_readwrite("memory_limit_mb", &dq::MotionOptions::memory_limit_mb);
+      .def_readwrite("memory_limit_mb", &dq::MotionOptions::memory_limit_mb)
+      .def_readwrite("lights_and_cameras", &dq::MotionOptions::lights_and_cameras);
   py::class_<dq::Motion>(m, "Motion", "A skeleton and its animation, from a BVH file or an imported model.")
       .def_readonly("format", &dq::Motion::format)
       .def_readonly("skeleton", &dq::Motion::skeleton)

@@ -126,7 +126,7 @@ class SceneBuilder {
       stack.pop_back();
       if (p >= 0 && n->mNumChildren == 0 && n->mNumMeshes == 0)
         if (const auto it = not_joints.find(n->mName.C_Str()); it != not_joints.end()) {
-          warn(std::string(it->second) + " '" + it->first + "' is not a joint; left out (ImportOptions::lights_and_cameras keeps it)");
+          warn(std::string(it->second) + " '" + it->first + "' is not a joint; left out (the option lights_and_cameras, dqkit's --lights-and-cameras, keeps it)");
           skipped_.insert(it->first);
           continue;
         }

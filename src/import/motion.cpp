@@ -14,6 +14,7 @@ Expected<Motion> import_motion(const std::filesystem::path& path, const MotionOp
   io.sample_rate = options.sample_rate > 0 ? options.sample_rate : 30;
   io.timeout_seconds = options.import_timeout;
   io.result_limit_mb = options.memory_limit_mb;
+  io.lights_and_cameras = options.lights_and_cameras;
   Expected<ImportedScene> scene = import_scene(path, io);
   if (!scene) return scene.error();
   Motion m;

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import dqkit
-from conftest import CMU_BVH, SIMPLE_SKIN, hamilton, need, random_rigid, rotation_matrix
+from conftest import CMU_BVH, MODELS, SIMPLE_SKIN, hamilton, need, random_rigid, rotation_matrix
 
 EPS = np.finfo(np.float64).eps
 
@@ -146,6 +146,19 @@ def test_import_runs_the_packaged_worker_without_forking():
         dqkit.import_motion("/nonexistent/nothing.gltf")
     with pytest.raises(FileNotFoundError):
         dqkit.load_motion("/nonexistent/nothing.bvh")
+
+
+def test_import_motion_keeps_lights_and_cameras_when_asked():
+    if not dqkit.HAVE_IMPORT:
+        pytest.skip("built without Assimp")
+    path = str(need(MODELS / "FBX" / "huesitos.fbx"))
+    left_out = dqkit.import_motion(path)
+    assert any("'Lamp' is not a joint" in w for w in left_out.warnings)
+    options = dqkit.MotionOptions()
+    options.lights_and_cameras = True
+    kept = dqkit.import_motion(path, options)
+    assert len(kept.skeleton) == len(left_out.skeleton) + 2  # the lamp and the camera
+    assert not any("is not a joint" in w for w in kept.warnings)
 
 
 def test_ik_reaches_a_target():

@@ -49,6 +49,11 @@ void add_input_options(CLI::App& c, InputOptions& o, const std::string& option_n
       ->check(finite_in(0, 86400));
   c.add_option("--memory-limit", o.memory_limit_mb, "MB the animation may take (frames x joints x 64 bytes; default 4096)")
       ->check(whole_number_up_to(std::size_t{1} << 30, "a whole number of megabytes", "MB", 1));
+  add_lights_and_cameras_option(c, o.lights_and_cameras);
+}
+
+void add_lights_and_cameras_option(CLI::App& c, bool& keep) {
+  c.add_flag("--lights-and-cameras", keep, "Keep an imported file's light and camera nodes (leaves without meshes) as joints");
 }
 
 bool is_stdout(const std::string& path) { return path.empty() || path == "-"; }
@@ -95,6 +100,7 @@ Motion load(const InputOptions& o) {
   options.import_timeout = o.import_timeout;
   options.sample_rate = o.rate;
   options.memory_limit_mb = o.memory_limit_mb;
+  options.lights_and_cameras = o.lights_and_cameras;
   Expected<Motion> m = [&]() -> Expected<Motion> {
     if (o.file == "-") {
       const std::string text = read_stdin();

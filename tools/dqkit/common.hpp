@@ -35,9 +35,12 @@ struct InputOptions {
   double rate = 0;  ///< 0: the file's own (BVH) or 30 Hz (imported)
   double import_timeout = 120;
   std::size_t memory_limit_mb = 4096;  ///< MotionOptions::memory_limit_mb
+  bool lights_and_cameras = false;
 };
-/// Adds `file`, --animation, --rate, --import-timeout and --memory-limit to a command.
+/// Adds `file`, --animation, --rate, --import-timeout, --memory-limit and --lights-and-cameras to a command.
 void add_input_options(CLI::App& command, InputOptions& options, const std::string& option_name = "file");
+/// Adds --lights-and-cameras (ImportOptions::lights_and_cameras).
+void add_lights_and_cameras_option(CLI::App& command, bool& keep);
 /// Loads the input (warnings printed); throws Failure.
 Motion load(const InputOptions& options);
 

@@ -97,7 +97,7 @@ int run_info(const InfoArgs& args) {
     if (m.bvh) o << "channels: " << m.bvh->channel_count() << "\n";
     o << "animations: " << m.animation_count << "\n";
     if (a.frame_count == 0)
-      o << "frames: 0 (no animation: the rest pose)\n";
+      o << (m.animation_count ? "frames: 0 (an empty animation: the rest pose)\n" : "frames: 0 (no animation: the rest pose)\n");
     else
       o << "frames: " << a.frame_count << ", frame time " << a.frame_time << " s (" << rate << " Hz), duration " << a.duration() << " s\n";
     if (m.scene) {

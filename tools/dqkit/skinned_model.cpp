@@ -12,12 +12,14 @@ void add_skinned_model_options(CLI::App& c, SkinnedModelOptions& o) {
   c.add_option("--animation", o.animation, "Which animation of a multi-animation file (from 0)")->check(animation_index());
   c.add_option("--import-timeout", o.import_timeout, "Seconds before the importer (a separate process) is abandoned")
       ->check(finite_in(0, 86400));
+  add_lights_and_cameras_option(c, o.lights_and_cameras);
 }
 
 SkinnedModel load_skinned_model(const SkinnedModelOptions& o) {
   if (o.file == "-") throw Failure("-: skin and render read a model file (the importer needs a file name); standard input is not supported");
   ImportOptions options;
   options.timeout_seconds = o.import_timeout;
+  options.lights_and_cameras = o.lights_and_cameras;
   Expected<ImportedScene> scene = import_scene(o.file, options);
   if (!scene) throw Failure(scene.error().message);
   print_warnings(scene->warnings);

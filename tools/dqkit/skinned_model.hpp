@@ -15,8 +15,9 @@ struct SkinnedModelOptions {
   double time = 0;
   std::size_t animation = 0;
   double import_timeout = 120;
+  bool lights_and_cameras = false;
 };
-/// Adds the model file, --time, --animation and --import-timeout to a command.
+/// Adds the model file, --time, --animation, --import-timeout and --lights-and-cameras to a command.
 void add_skinned_model_options(CLI::App& command, SkinnedModelOptions& options);
 
 struct SkinnedModel {

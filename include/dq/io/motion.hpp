@@ -37,6 +37,7 @@ struct MotionOptions {
   /// The most the animation (frames × joints × 64 bytes) may take; beyond it an error, before
   /// anything is allocated. A BVH text of at most 1 GiB (BvhLimits) comes on top.
   std::size_t memory_limit_mb = 4096;
+  bool lights_and_cameras = false;  ///< imported files: ImportOptions::lights_and_cameras
 };
 
 /// Frames that cover `seconds` at `rate`: ⌈seconds × rate⌉ + 1 (within 1e-9 of a frame; 2 at least
