@@ -66,7 +66,7 @@ echo "   packaging tests build dqkit again without sanitizers and ran above, as 
 echo "   runs under ASan + UBSan in the fuzzing stage, fuzz_cli driving every command)"
 # Clang here, GCC above: every test passes with both compilers (building them with clang found
 # skinning kernels whose helpers clang had left out of line), and clang instruments in half the time.
-run_suite asan-ubsan "-LE package" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DDQKIT_SANITIZE=ON "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG" -DDQKIT_BUILD_TOOLS=OFF \
+run_suite asan-ubsan "-LE package" -DCMAKE_CXX_COMPILER=clang++ -DDQKIT_SANITIZE=ON "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG" -DDQKIT_BUILD_TOOLS=OFF \
   -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF -DDQKIT_BUILD_DEMOS=OFF
 
 if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo; then
