@@ -533,7 +533,7 @@ void SclerpScalar(benchmark::State& state) {
 
 int main(int argc, char** argv) {
   benchmark::AddCustomContext("cpu_model", bench::cpu_model());
-  benchmark::AddCustomContext("llc_MB", std::to_string(bench::last_level_cache_bytes() >> 20));
+  bench::add_cache_context();
   benchmark::AddCustomContext("simd_target", std::string(simd::to_string(simd::best_target())));
   benchmark::Initialize(&argc, argv);
   // The roof: a quick copy measurement before the registered cases (the Copy case reports it too).

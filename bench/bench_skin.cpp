@@ -255,7 +255,7 @@ BENCHMARK(glm_cor)->Arg(1)->Arg(2)->UseRealTime();
 
 int main(int argc, char** argv) {
   benchmark::AddCustomContext("cpu_model", dq::bench::cpu_model());
-  benchmark::AddCustomContext("llc_MB", std::to_string(dq::bench::last_level_cache_bytes() >> 20));
+  dq::bench::add_cache_context();
   benchmark::AddCustomContext("simd_target", std::string(dq::simd::to_string(dq::simd::best_target())));
   benchmark::AddCustomContext("vertices", std::to_string(vertex_count()));
   benchmark::Initialize(&argc, argv);

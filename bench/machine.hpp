@@ -14,9 +14,19 @@
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 namespace dq::bench {
 
-inline std::size_t last_level_cache_bytes() {
+/// The last-level cache and where its size was read: Linux's sysfs, else the CPU's own word
+/// (CPUID, through glibc's sysconf; some virtual machines have no cache entries in sysfs), else an
+/// assumed 32 MB. A hypervisor may report the whole socket's cache, more than one core can use: the
+/// arrays are then larger than they need be, which still puts them in memory, the safe direction.
+struct CacheSize {
+  std::size_t bytes;
+  const char* source;
+};
+inline CacheSize last_level_cache() {
   std::size_t best = 0;
   for (int index = 0; index < 8; ++index) {
     std::ifstream f("/sys/devices/system/cpu/cpu0/cache/index" + std::to_string(index) + "/size");
@@ -27,7 +37,20 @@ inline std::size_t last_level_cache_bytes() {
     if (s.back() == 'M') v <<= 20;
     best = std::max(best, v);
   }
-  return best ? best : std::size_t{32} << 20;
+  if (best) return {best, "sysfs"};
+  for (int name : {_SC_LEVEL4_CACHE_SIZE, _SC_LEVEL3_CACHE_SIZE, _SC_LEVEL2_CACHE_SIZE}) {
+    const long v = sysconf(name);
+    if (v > 0) return {static_cast<std::size_t>(v), "cpuid"};
+  }
+  return {std::size_t{32} << 20, "assumed"};
+}
+inline std::size_t last_level_cache_bytes() { return last_level_cache().bytes; }
+
+/// The benchmark's context keys for the cache: its size in MB and where that was read.
+inline void add_cache_context() {
+  const CacheSize cache = last_level_cache();
+  benchmark::AddCustomContext("llc_MB", std::to_string(cache.bytes >> 20));
+  benchmark::AddCustomContext("llc_source", cache.source);
 }
 
 inline std::string cpu_model() {

@@ -1,17 +1,24 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang and runs each for a bounded time (default 60 s), two at
 # a time. Seeds: the committed corpus plus, for the importers, the sample files of Debian's
-# assimp-testmodels. A crash stops the run with the input saved under build/fuzz/artifacts/;
+# assimp-testmodels. A crash stops the run with the input saved under <build>/artifacts/ (build/fuzz unless DQKIT_FUZZ_BUILD says);
 # copy it to fuzz/regressions/<target>/ so that CTest replays it from then on.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
-scripts/deps.sh
-build=build/fuzz
-# -O1 with line tables only: stack traces with file and line, lighter to build than full debug
-# information.
-CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" -DDQKIT_FUZZ=ON \
-  -DDQKIT_BUILD_TESTS=OFF -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_EXAMPLES=OFF >/dev/null
+# DQKIT_FUZZ_BUILD: a build folder already configured with -DDQKIT_FUZZ=ON (scripts/test.sh passes its
+# sanitizer build, which compiles the libraries once for its tests and these targets); without it,
+# build/fuzz is configured here.
+build=${DQKIT_FUZZ_BUILD:-build/fuzz}
+if [ -n "${DQKIT_FUZZ_BUILD:-}" ]; then
+  grep -q '^DQKIT_FUZZ:BOOL=ON$' "$build/CMakeCache.txt" || { echo "$build is not configured with -DDQKIT_FUZZ=ON"; exit 1; }
+else
+  scripts/deps.sh
+  # -O1 with line tables only: stack traces with file and line, lighter to build than full debug
+  # information.
+  CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" -DDQKIT_FUZZ=ON \
+    -DDQKIT_BUILD_TESTS=OFF -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_EXAMPLES=OFF >/dev/null
+fi
 targets=$(cmake --build "$build" --target help | sed -n 's/^\.\.\. \(fuzz_[a-z_]*\).*/\1/p' | sort -u)
 cmake --build "$build" -j "$(nproc)" --target $targets dqkit_cli
 rm -rf "$build/artifacts" && mkdir -p "$build/artifacts" "$build/work"

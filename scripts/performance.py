@@ -164,6 +164,11 @@ def run_suite(build):
     return results
 
 
+LLC_SOURCE = {"sysfs": "sysfs", "cpuid": "CPUID: this machine's sysfs has no cache entries; a virtual machine may be told the "
+              "whole socket's cache, so the 4 × LLC arrays are then larger than they need be",
+              "assumed": "nowhere: assumed"}
+
+
 def main(results):
     batch, core, core_avx2, skin, ik = (results.get(k) for k in ("bench_batch", "bench_core", "bench_core_avx2", "bench_skin", "bench_ik"))
     b, c, c_avx2 = medians(batch), medians(core), medians(core_avx2)
@@ -173,7 +178,7 @@ def main(results):
 
     lines = []
     add = lines.append
-    add(f"Machine: {ctx['cpu_model']}, {ctx['num_cpus']} cores, last-level cache {ctx['llc_MB']} MB; widest dispatch "
+    add(f"Machine: {ctx['cpu_model']}, {ctx['num_cpus']} cores, last-level cache {ctx['llc_MB']} MB (read from {LLC_SOURCE.get(ctx.get('llc_source'), 'sysfs')}); widest dispatch "
         f"target: {ctx['simd_target']}; GCC 12, Release, portable flags (no `-march`). Command: "
         "`/usr/bin/python3 scripts/performance.py` (runs `bench_batch`, `bench_core`, `bench_skin` and `bench_ik` with 3 "
         "repetitions, medians, and `bench_core` again built with `-mavx2 -mfma` in build/bench-avx2; raw results in "

@@ -61,18 +61,20 @@ else
   exit 1
 fi
 
-stage "AddressSanitizer + UndefinedBehaviorSanitizer build with clang (-O1) and tests of the libraries (the"
-echo "   packaging tests build dqkit again without sanitizers and ran above, as did the demos; the command-line tool"
+stage "AddressSanitizer + UndefinedBehaviorSanitizer build with clang (-O1): the tests of the libraries, and the"
+echo "   fuzz targets, whose libFuzzer binaries share this build's libraries (the packaging tests build dqkit again"
+echo "   without sanitizers and ran above, as did the demos and the command-line tool's end-to-end tests; the tool"
 echo "   runs under ASan + UBSan in the fuzzing stage, fuzz_cli driving every command)"
 # Clang here, GCC above: every test passes with both compilers (building them with clang found
 # skinning kernels whose helpers clang had left out of line), and clang instruments in half the time.
-run_suite asan-ubsan "-LE package" -DCMAKE_CXX_COMPILER=clang++ -DDQKIT_SANITIZE=ON "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG" -DDQKIT_BUILD_TOOLS=OFF \
-  -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF -DDQKIT_BUILD_DEMOS=OFF
+run_suite asan-ubsan "-LE package" -DCMAKE_CXX_COMPILER=clang++ -DDQKIT_SANITIZE=ON -DDQKIT_FUZZ=ON \
+  "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -gline-tables-only -DNDEBUG" -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF -DDQKIT_BUILD_DEMOS=OFF
 
 if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo; then
-  stage "Release build with -mavx2 -mfma: the tests of the algebra, its derivatives, interpolation and the"
-  echo "   SIMD kernels (the code whose results could depend on the instruction set; the rest ran above)"
-  numeric_tests=(test_dual test_algebra test_generic test_interp test_simd test_pose_blocks test_skin)
+  stage "Release build with -mavx2 -mfma: the tests of the algebra (dual numbers, quaternions, dual quaternions),"
+  echo "   interpolation and the SIMD kernels (the code with float lane paths, whose results could depend on the"
+  echo "   instruction set; the rest, test_generic's scalar-generic derivatives among it, ran above)"
+  numeric_tests=(test_dual test_algebra test_interp test_simd test_pose_blocks test_skin)
   cmake -S . -B build/avx2 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="-mavx2 -mfma" -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF \
     -DDQKIT_BUILD_EXAMPLES=OFF -DDQKIT_BUILD_TOOLS=OFF -DDQKIT_WITH_ASSIMP=OFF -DDQKIT_BUILD_DEMOS=OFF >/dev/null
   cmake --build build/avx2 -j "$jobs" --target "${numeric_tests[@]}"
@@ -87,8 +89,8 @@ cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-
 cmake --build build/tsan -j "$jobs" --target test_threads test_skeleton test_skin test_pose_blocks  # Skinning.Threads*, PoseBlocks.Threads*
 run_ctest --test-dir build/tsan -R "Threads|ForwardKinematics"
 
-stage "Fuzzing: every target for ${DQKIT_FUZZ_SECONDS:-8} s (libFuzzer, clang)"
-scripts/fuzz.sh "${DQKIT_FUZZ_SECONDS:-8}"
+stage "Fuzzing: every target for ${DQKIT_FUZZ_SECONDS:-8} s (libFuzzer, clang; built in the sanitizer stage)"
+DQKIT_FUZZ_BUILD=build/asan-ubsan scripts/fuzz.sh "${DQKIT_FUZZ_SECONDS:-8}"
 stage "Summary"
 
 # One closing line for the whole run: every CTest test of the three builds (all passed, or the
