@@ -33,7 +33,7 @@ run_suite() {  # name, ctest arguments (quoted), extra cmake flags...
 }
 
 echo "== Release build and tests"
-run_suite release ""
+run_suite release "" -DDQKIT_TEST_OPTIMIZATION=-O2  # the test files at -O2 (tests/CMakeLists.txt says why)
 stage "The renderer's window (GLFW) on a virtual X display (Xvfb); CTest ran the headless renderer"
 xvfb-run -a build/release/tests/test_render --gtest_filter='Render.Window*'
 stage "Python: pytest on the module of the Release build (tests/python), then pip install from pyproject.toml"
