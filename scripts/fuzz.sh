@@ -6,12 +6,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
-# DQKIT_FUZZ_BUILD: a build folder already configured with -DDQKIT_FUZZ=ON (scripts/test.sh passes its
-# sanitizer build, which compiles the libraries once for its tests and these targets); without it,
-# build/fuzz is configured here.
+# DQKIT_FUZZ_BUILD: a build folder (relative to the repository's root) already configured with
+# -DDQKIT_FUZZ=ON and the tools (scripts/test.sh passes its sanitizer build, which compiles the
+# libraries once for its tests and these targets); without it, build/fuzz is configured here.
 build=${DQKIT_FUZZ_BUILD:-build/fuzz}
 if [ -n "${DQKIT_FUZZ_BUILD:-}" ]; then
-  grep -q '^DQKIT_FUZZ:BOOL=ON$' "$build/CMakeCache.txt" || { echo "$build is not configured with -DDQKIT_FUZZ=ON"; exit 1; }
+  grep -Eiq '^DQKIT_FUZZ:BOOL=(ON|1|TRUE|YES|Y)$' "$build/CMakeCache.txt" || { echo "$build is not configured with -DDQKIT_FUZZ=ON"; exit 1; }
 else
   scripts/deps.sh
   # -O1 with line tables only: stack traces with file and line, lighter to build than full debug
@@ -67,7 +67,10 @@ run_one() {
       [ -e "$a" ] || continue
       crashes=$((crashes + 1))
       cp "$a" "$build/work/replay.$corpus"
-      "$build/tools/dqkit" info --import-timeout 5 "$build/work/replay.$corpus" > /dev/null 2>&1
+      # The tool is built with the sanitizers, whose reports exit with 1 unless told otherwise:
+      # told 86 here, so that a finding cannot pass for a clean error.
+      ASAN_OPTIONS=exitcode=86 UBSAN_OPTIONS=exitcode=86 \
+        "$build/tools/dqkit" info --import-timeout 5 "$build/work/replay.$corpus" > /dev/null 2>&1
       local code=$?
       # 1: a clean error; 0: the file imports after all (an out-of-memory input that fits in the
       # isolated importer's larger limit). Anything else would be a crash of the tool.

@@ -67,7 +67,7 @@ echo "   without sanitizers and ran above, as did the demos and the command-line
 echo "   runs under ASan + UBSan in the fuzzing stage, fuzz_cli driving every command)"
 # Clang here, GCC above: every test passes with both compilers (building them with clang found
 # skinning kernels whose helpers clang had left out of line), and clang instruments in half the time.
-run_suite asan-ubsan "-LE package" -DCMAKE_CXX_COMPILER=clang++ -DDQKIT_SANITIZE=ON -DDQKIT_FUZZ=ON \
+run_suite asan-ubsan "-LE package" -DCMAKE_CXX_COMPILER=clang++ -DDQKIT_SANITIZE=ON -DDQKIT_FUZZ=ON -DDQKIT_BUILD_TOOLS=ON \
   "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -gline-tables-only -DNDEBUG" -DDQKIT_BUILD_BENCHMARKS=OFF -DDQKIT_BUILD_PYTHON=OFF -DDQKIT_BUILD_DEMOS=OFF
 
 if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo; then
@@ -93,7 +93,7 @@ stage "Fuzzing: every target for ${DQKIT_FUZZ_SECONDS:-8} s (libFuzzer, clang; b
 DQKIT_FUZZ_BUILD=build/asan-ubsan scripts/fuzz.sh "${DQKIT_FUZZ_SECONDS:-8}"
 stage "Summary"
 
-# One closing line for the whole run: every CTest test of the three builds (all passed, or the
+# One closing line for the whole run: every CTest test of the four builds (all passed, or the
 # script would have stopped above).
 total=$(sed -n 's/.*tests failed out of \([0-9]*\).*/\1/p' "$summary" | awk '{s+=$1} END {print s+0}')
 echo "all: $total passed, 0 failed, in $((SECONDS / 60)) min $((SECONDS % 60)) s"
