@@ -64,7 +64,7 @@ fi
 stage "AddressSanitizer + UndefinedBehaviorSanitizer build with clang (-O1): the tests of the libraries, and the"
 echo "   fuzz targets, whose libFuzzer binaries share this build's libraries (the packaging tests build dqkit again"
 echo "   without sanitizers and ran above, as did the demos and the command-line tool's end-to-end tests; the tool"
-echo "   runs under ASan + UBSan in the fuzzing stage, fuzz_cli driving every command)"
+echo "   runs under ASan + UBSan in the fuzzing stage, fuzz_cli driving its info, fk and convert commands)"
 # Clang here, GCC above: every test passes with both compilers (building them with clang found
 # skinning kernels whose helpers clang had left out of line), and clang instruments in half the time.
 run_suite asan-ubsan "-LE package" -DCMAKE_CXX_COMPILER=clang++ -DDQKIT_SANITIZE=ON -DDQKIT_FUZZ=ON -DDQKIT_BUILD_TOOLS=ON \
