@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang and runs each for a bounded time (default 60 s), two at
 # a time. Seeds: the committed corpus plus, for the importers, the sample files of Debian's
-# assimp-testmodels. A crash stops the run with the input saved under <build>/artifacts/ (build/fuzz unless DQKIT_FUZZ_BUILD says);
-# copy it to fuzz/regressions/<target>/ so that CTest replays it from then on.
+# assimp-testmodels. A crash stops the run with the input saved under <build>/artifacts/ (build/fuzz
+# unless DQKIT_FUZZ_BUILD names another); copy it to fuzz/regressions/<target>/ so that CTest
+# replays it from then on.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
