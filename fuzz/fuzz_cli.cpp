@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "../tools/dqkit/app.hpp"
@@ -51,16 +52,24 @@ void parse_arguments(const std::string& text) {
 
 void run_commands(const std::string& text, unsigned variant) {
   // Output goes to standard output, sent to /dev/null once (a file per input would be fsynced:
-  // slow). The safe file writing has its own tests.
-  static const std::filesystem::path dir = [] {
+  // slow). The safe file writing has its own tests. The input file's folder is removed at exit
+  // (libFuzzer ends a time-bounded run with exit()).
+  struct ScratchFolder {
+    std::filesystem::path path;
+    ~ScratchFolder() {
+      std::error_code ignored;
+      std::filesystem::remove_all(path, ignored);
+    }
+  };
+  static const ScratchFolder dir = [] {
     auto d = std::filesystem::temp_directory_path() / ("dqkit_fuzz_cli_" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
     const int null = ::open("/dev/null", O_WRONLY);
     ::dup2(null, STDOUT_FILENO);
     ::close(null);
-    return d;
+    return ScratchFolder{d};
   }();
-  const std::string in = (dir / "in.bvh").string();
+  const std::string in = (dir.path / "in.bvh").string();
   std::ofstream(in, std::ios::binary | std::ios::trunc) << text;
   static const std::vector<std::vector<std::string>> commands = {
       {"info", in, "--format", "json"},
