@@ -25,7 +25,6 @@
 #include "dq/convert/matrix.hpp"
 #include "dq/simd/batch.hpp"
 #include "dq/skin/skinning.hpp"
-#include "dq/util/component_arrays.hpp"
 #include "machine.hpp"
 
 namespace {
@@ -120,12 +119,12 @@ Fixture& fixture() {
   return f;
 }
 
-/// dqkit's output: positions and normals in ComponentArrays, as docs/skinning.md advises (six
-/// separate std::vectors of this size start at the same offset in a 4 KiB page, and their streams
-/// share cache sets).
+/// dqkit's output: positions and normals, component arrays.
 struct Output {
-  ComponentArrays<float, 6> c;
-  explicit Output(std::size_t n) : c(n) {}
+  std::vector<float> c[6];
+  explicit Output(std::size_t n) {
+    for (auto& x : c) x.assign(n, 0.0f);
+  }
   SkinnedVertices view() { return {c[0], c[1], c[2], c[3], c[4], c[5], {}, {}, {}}; }
 };
 
