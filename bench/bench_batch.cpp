@@ -100,12 +100,13 @@ Skeletons& skeletons(std::size_t n) {
   return n == 10'000 ? small : large;
 }
 
-void report_fk(benchmark::State& state, std::size_t poses) {
+/// `bytes_per_joint`: a float dual quaternion's 32 bytes of local pose read and 32 of model pose
+/// written (the parent is in cache); 128 for Eigen's 4x4 matrices.
+void report_fk(benchmark::State& state, std::size_t poses, double bytes_per_joint = 64) {
   const double joints = static_cast<double>(state.iterations()) * static_cast<double>(poses * kJoints);
   state.counters["joints_per_s"] = benchmark::Counter(joints, benchmark::Counter::kIsRate);
-  // 32 bytes of local pose read and 32 of model pose written per joint (the parent is in cache).
-  state.SetBytesProcessed(static_cast<int64_t>(joints * 64));
-  if (copy_bandwidth() > 0) state.counters["roofline"] = benchmark::Counter(joints * 64 / copy_bandwidth(), benchmark::Counter::kIsRate);
+  state.SetBytesProcessed(static_cast<int64_t>(joints * bytes_per_joint));
+  if (copy_bandwidth() > 0) state.counters["roofline"] = benchmark::Counter(joints * bytes_per_joint / copy_bandwidth(), benchmark::Counter::kIsRate);
 }
 
 void FkDispatched(benchmark::State& state) {
@@ -158,19 +159,52 @@ void FkScalarJob(benchmark::State& state) {
   }
   report_fk(state, poses);
 }
-/// What users of Eigen write: each skeleton's poses as Isometry3f, pose by pose.
+/// An Eigen transform from a dual quaternion: Isometry3f, or its 4x4 matrix as Matrix4f.
+template <class E>
+E to_eigen_transform(const DualQuaternion<float>& q) {
+  if constexpr (std::is_same_v<E, Eigen::Matrix4f>)
+    return eigen::to_isometry(q).matrix();
+  else
+    return eigen::to_isometry(q);
+}
+/// parent · local into `model`: Matrix4f with noalias() (Eigen's form for a product into another
+/// matrix, without a temporary); Isometry3f's product has no such form.
+template <class E>
+void compose_into(E& model, const E& parent, const E& local) {
+  if constexpr (requires { model.noalias() = parent * local; })
+    model.noalias() = parent * local;
+  else
+    model = parent * local;
+}
+/// Whether an Eigen transform is dqkit's model transform `q` (translations to float rounding).
+template <class E>
+bool same_model(const E& e, const DualQuaternion<float>& q) {
+  const Eigen::Isometry3f iso(Eigen::Matrix4f(e.matrix()));
+  const Eigen::Vector3f t = iso.translation();
+  return (t - eigen::to_eigen(q.translation())).norm() <= 1e-3f * (1 + t.norm()) &&
+         (iso.linear() - eigen::to_eigen(q.real).toRotationMatrix()).cwiseAbs().maxCoeff() <= 1e-4f;
+}
+/// What users of Eigen write: each skeleton's poses as Isometry3f (or its 4x4 matrix as
+/// Matrix4f, whose product Eigen vectorizes: Isometry3f's composes a 3x3 block and a vector),
+/// pose by pose.
+template <class E>
 void FkEigenPerPose(benchmark::State& state) {
   const auto poses = static_cast<std::size_t>(state.range(0));
   Skeletons& s = skeletons(poses);
   const auto v = s.local.view();
-  std::vector<Eigen::Isometry3f> local(poses * kJoints), model(poses * kJoints);
+  std::vector<E> local(poses * kJoints), model(poses * kJoints, E::Identity());  // filled before timing
   for (std::size_t p = 0; p < poses; ++p)
-    for (std::size_t j = 0; j < kJoints; ++j) local[p * kJoints + j] = eigen::to_isometry(v.get(j, p));
+    for (std::size_t j = 0; j < kJoints; ++j) local[p * kJoints + j] = to_eigen_transform<E>(v.get(j, p));
   for (auto _ : state) {
     for (std::size_t p = 0; p < poses; ++p) {
-      const Eigen::Isometry3f* l = local.data() + p * kJoints;
-      Eigen::Isometry3f* m = model.data() + p * kJoints;
-      for (std::size_t j = 0; j < kJoints; ++j) m[j] = s.parents[j] < 0 ? l[j] : m[s.parents[j]] * l[j];
+      const E* l = local.data() + p * kJoints;
+      E* m = model.data() + p * kJoints;
+      for (std::size_t j = 0; j < kJoints; ++j) {
+        if (s.parents[j] < 0)
+          m[j] = l[j];
+        else
+          compose_into(m[j], m[s.parents[j]], l[j]);
+      }
     }
     benchmark::DoNotOptimize(model.data());
     benchmark::ClobberMemory();
@@ -180,30 +214,43 @@ void FkEigenPerPose(benchmark::State& state) {
   const auto got = s.model.view();
   for (std::size_t p = 0; p < poses; p += poses / 7)
     for (std::size_t j = 0; j < kJoints; ++j)
-      if ((model[p * kJoints + j].translation() - eigen::to_eigen(got.get(j, p).translation())).norm() > 1e-3f * (1 + model[p * kJoints + j].translation().norm()))
-        state.SkipWithError("Eigen and dqkit disagree");
-  report_fk(state, poses);
+      if (!same_model(model[p * kJoints + j], got.get(j, p))) return state.SkipWithError("Eigen and dqkit disagree");
+  report_fk(state, poses, 2.0 * sizeof(E));
 }
 
-/// One skeleton at a time (64 joints): dqkit dual quaternions and Eigen Isometry3f.
-template <class X, class Make>
-void FkOneSkeleton(benchmark::State& state, Make make) {
+/// One skeleton at a time (64 joints): dqkit dual quaternions and Eigen Isometry3f and Matrix4f,
+/// each checked once against dqkit's batch job on the same pose.
+template <class X, class Make, class Same>
+void FkOneSkeleton(benchmark::State& state, Make make, Same same) {
   Skeletons& s = skeletons(10'000);
   const auto v = s.local.view();
-  std::vector<X> local, model(kJoints);
+  std::vector<X> local, model(kJoints, make(DualQuaternion<float>{}));
   for (std::size_t j = 0; j < kJoints; ++j) local.push_back(make(v.get(j, 0)));
   for (auto _ : state) {
-    for (std::size_t j = 0; j < kJoints; ++j) model[j] = s.parents[j] < 0 ? local[j] : model[static_cast<std::size_t>(s.parents[j])] * local[j];
+    for (std::size_t j = 0; j < kJoints; ++j) {
+      if (s.parents[j] < 0)
+        model[j] = local[j];
+      else if constexpr (std::is_same_v<X, DualQuaternion<float>>)
+        model[j] = model[static_cast<std::size_t>(s.parents[j])] * local[j];
+      else
+        compose_into(model[j], model[static_cast<std::size_t>(s.parents[j])], local[j]);
+    }
     benchmark::DoNotOptimize(model.data());
     benchmark::ClobberMemory();
   }
+  s.job().run();
+  for (std::size_t j = 0; j < kJoints; ++j)
+    if (!same(model[j], s.model.view().get(j, 0))) return state.SkipWithError("the skeleton's model transforms differ from dqkit's job");
   state.counters["joints_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * kJoints), benchmark::Counter::kIsRate);
 }
 void FkOneSkeletonDualQuaternion(benchmark::State& s) {
-  FkOneSkeleton<DualQuaternion<float>>(s, [](const DualQuaternion<float>& q) { return q; });
+  FkOneSkeleton<DualQuaternion<float>>(
+      s, [](const DualQuaternion<float>& q) { return q; },
+      [](const DualQuaternion<float>& x, const DualQuaternion<float>& q) { return same_model(eigen::to_isometry(x), q); });
 }
-void FkOneSkeletonEigenIsometry3f(benchmark::State& s) {
-  FkOneSkeleton<Eigen::Isometry3f>(s, [](const DualQuaternion<float>& q) { return eigen::to_isometry(q); });
+template <class E>
+void FkOneSkeletonEigen(benchmark::State& s) {
+  FkOneSkeleton<E>(s, to_eigen_transform<E>, same_model<E>);
 }
 
 // ---- points and compositions ---------------------------------------------------------------------------
@@ -245,7 +292,7 @@ void TransformPointsDispatched(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
   state.counters["points_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
-  state.SetBytesProcessed(static_cast<int64_t>(state.iterations() * n * 44));  // 32 + 12 in, 12 out
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations() * n * 56));  // 32 + 12 in, 12 out
 }
 void TransformPointsEigenIsometry3f(benchmark::State& state) {
   Arrays& a = arrays(size_of(state));
@@ -268,34 +315,54 @@ void TransformPointsEigenIsometry3f(benchmark::State& state) {
   state.counters["points_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
 }
 
-/// slerp over arrays of 4096 quaternion pairs, t = 0.3: the dispatched kernel (no failure case)
-/// against Eigen's slerp per element (which divides by sin Ω).
+/// 4096 pairs of unit quaternions: the rotations of the hot arrays, each with the one n/2 places on.
+struct SlerpArrays {
+  static constexpr std::size_t n = 4096;
+  ComponentArrays<float, 4> a{n}, b{n}, out{n};
+  std::vector<Eigen::Quaternionf> ea, eb;
+  SlerpArrays() {
+    const auto& dq = arrays(n).dq;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Quaternion<float>& x = dq[i].real;
+      const Quaternion<float>& y = dq[(i + n / 2) % n].real;
+      for (std::size_t k = 0; k < 4; ++k) a[k][i] = (&x.w)[k], b[k][i] = (&y.w)[k];
+      ea.push_back(eigen::to_eigen(x)), eb.push_back(eigen::to_eigen(y));
+    }
+  }
+  void run() {
+    const auto x = std::as_const(a).data(), y = std::as_const(b).data();
+    const auto o = out.data();
+    simd::slerp({x[0], x[1], x[2], x[3]}, {y[0], y[1], y[2], y[3]}, 0.3f, {o[0], o[1], o[2], o[3]}, n);
+  }
+};
+SlerpArrays& slerp_arrays() {
+  static SlerpArrays s;
+  return s;
+}
+/// slerp over the 4096 pairs, t = 0.3: the dispatched kernel (no failure case) against Eigen's
+/// slerp per element (which divides by sin Ω), whose result is checked once against the kernel's.
 void SlerpDispatched(benchmark::State& state) {
-  Arrays& a = arrays(4096);
-  const std::size_t n = a.dq.size();
+  SlerpArrays& s = slerp_arrays();
   state.SetLabel(std::string(simd::to_string(simd::current_target())));
-  // The real parts of the first array against those of the second half rotated: n pairs.
   for (auto _ : state) {
-    simd::slerp({a.c[0].data(), a.c[1].data(), a.c[2].data(), a.c[3].data()}, {a.c[4].data(), a.c[5].data(), a.c[6].data(), a.c[7].data()}, 0.3f,
-                {a.o8[0].data(), a.o8[1].data(), a.o8[2].data(), a.o8[3].data()}, n);
+    s.run();
     benchmark::ClobberMemory();
   }
-  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * s.n), benchmark::Counter::kIsRate);
 }
 void SlerpEigen(benchmark::State& state) {
-  Arrays& a = arrays(4096);
-  const std::size_t n = a.dq.size();
-  std::vector<Eigen::Quaternionf> x, y, out(n, Eigen::Quaternionf::Identity());  // filled, as TransformPointsEigenIsometry3f's
-  for (std::size_t i = 0; i < n; ++i) {
-    x.emplace_back(a.c[0][i], a.c[1][i], a.c[2][i], a.c[3][i]);
-    y.emplace_back(a.c[4][i], a.c[5][i], a.c[6][i], a.c[7][i]);
-  }
+  SlerpArrays& s = slerp_arrays();
+  std::vector<Eigen::Quaternionf> out(s.n, Eigen::Quaternionf::Identity());  // filled, as TransformPointsEigenIsometry3f's
   for (auto _ : state) {
-    for (std::size_t i = 0; i < n; ++i) out[i] = x[i].slerp(0.3f, y[i]);
+    for (std::size_t i = 0; i < s.n; ++i) out[i] = s.ea[i].slerp(0.3f, s.eb[i]);
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
-  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+  s.run();
+  for (std::size_t i = 0; i < s.n; ++i)
+    if (!approx_equal(eigen::from_eigen(out[i]), Quaternion<float>(s.out[0][i], s.out[1][i], s.out[2][i], s.out[3][i]), 1e-5f, SignPolicy::same_rotation))
+      return state.SkipWithError("Eigen and dqkit disagree");
+  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * s.n), benchmark::Counter::kIsRate);
 }
 
 void ComposeDispatched(benchmark::State& state) {
@@ -311,29 +378,39 @@ void ComposeDispatched(benchmark::State& state) {
   if (copy_bandwidth() > 0 && state.range(0) != 0)
     state.counters["roofline"] = benchmark::Counter(static_cast<double>(state.iterations() * n * 64) / copy_bandwidth(), benchmark::Counter::kIsRate);
 }
-void ComposeGlmDualquat(benchmark::State& state) {
+/// A peer's products x[i] · x[i] over the arrays, each of its transforms made once by `make` and
+/// composed by `compose(out, a, b)`, checked once against dqkit's products (every 97th).
+template <class M, class Make, class Compose, class Read>
+void ComposePeer(benchmark::State& state, Make make, Compose compose, Read read) {
   Arrays& a = arrays(size_of(state));
   const std::size_t n = a.dq.size();
-  std::vector<glm::dualquat> x, out(n);
-  for (const auto& q : a.dq) x.push_back(glm_interop::to_glm(q));
+  std::vector<M> x;
+  x.reserve(n);  // no doubling of arrays of 4 × LLC
+  for (const auto& q : a.dq) x.push_back(make(q));
+  std::vector<M> out(n, x[0]);  // filled before timing
   for (auto _ : state) {
-    for (std::size_t i = 0; i < n; ++i) out[i] = x[i] * x[i];
+    for (std::size_t i = 0; i < n; ++i) compose(out[i], x[i], x[i]);
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
+  }
+  for (std::size_t i = 0; i < n; i += 97) {
+    const DualQuaternion<float> expected = a.dq[i] * a.dq[i];
+    const Eigen::Isometry3f got(Eigen::Matrix4f(read(out[i])));
+    if ((got.translation() - eigen::to_eigen(expected.translation())).norm() > 1e-4f * (1 + got.translation().norm()) ||
+        (got.linear() - eigen::to_eigen(expected.real).toRotationMatrix()).cwiseAbs().maxCoeff() > 1e-5f)
+      return state.SkipWithError("the peer's products differ from dqkit's");
   }
   state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
 }
-void ComposeEigenIsometry3f(benchmark::State& state) {
-  Arrays& a = arrays(size_of(state));
-  const std::size_t n = a.dq.size();
-  std::vector<Eigen::Isometry3f> x, out(n);
-  for (const auto& q : a.dq) x.push_back(eigen::to_isometry(q));
-  for (auto _ : state) {
-    for (std::size_t i = 0; i < n; ++i) out[i] = x[i] * x[i];
-    benchmark::DoNotOptimize(out.data());
-    benchmark::ClobberMemory();
-  }
-  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+void ComposeGlmDualquat(benchmark::State& state) {
+  ComposePeer<glm::dualquat>(
+      state, [](const DualQuaternion<float>& q) { return glm_interop::to_glm(q); },
+      [](glm::dualquat& out, const glm::dualquat& a, const glm::dualquat& b) { out = a * b; },
+      [](const glm::dualquat& q) { return eigen::to_isometry(glm_interop::from_glm(q)).matrix(); });
+}
+template <class E>
+void ComposeEigen(benchmark::State& state) {
+  ComposePeer<E>(state, to_eigen_transform<E>, compose_into<E>, [](const E& e) { return Eigen::Matrix4f(e.matrix()); });
 }
 
 // ---- inverse, directions, normalize, dlb, sclerp over arrays -------------------------------------------
@@ -554,16 +631,19 @@ BENCHMARK(FkDispatched)->Args({10'000, 1})->Args({10'000, 2})->Args({100'000, 1}
 BENCHMARK(FkBlocksDispatched)->Args({10'000, 1})->Args({10'000, 2})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
 BENCHMARK(FkBlocksStreaming)->Args({10'000, 1})->Args({10'000, 2})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
 BENCHMARK(FkScalarJob)->Arg(10'000)->Arg(100'000)->UseRealTime();
-BENCHMARK(FkEigenPerPose)->Arg(10'000)->UseRealTime();
+BENCHMARK(FkEigenPerPose<Eigen::Isometry3f>)->Name("FkEigenPerPose")->Arg(10'000)->UseRealTime();
+BENCHMARK(FkEigenPerPose<Eigen::Matrix4f>)->Name("FkEigenMatrix4fPerPose")->Arg(10'000)->UseRealTime();
 BENCHMARK(FkOneSkeletonDualQuaternion);
-BENCHMARK(FkOneSkeletonEigenIsometry3f);
+BENCHMARK(FkOneSkeletonEigen<Eigen::Isometry3f>)->Name("FkOneSkeletonEigenIsometry3f");
+BENCHMARK(FkOneSkeletonEigen<Eigen::Matrix4f>)->Name("FkOneSkeletonEigenMatrix4f");
 BENCHMARK(TransformPointsDispatched)->Arg(0)->Arg(1);
 BENCHMARK(TransformPointsEigenIsometry3f)->Arg(0)->Arg(1);
 BENCHMARK(SlerpDispatched);
 BENCHMARK(SlerpEigen);
 BENCHMARK(ComposeDispatched)->Arg(0)->Arg(1);
 BENCHMARK(ComposeGlmDualquat)->Arg(0)->Arg(1);
-BENCHMARK(ComposeEigenIsometry3f)->Arg(0)->Arg(1);
+BENCHMARK(ComposeEigen<Eigen::Isometry3f>)->Name("ComposeEigenIsometry3f")->Arg(0)->Arg(1);
+BENCHMARK(ComposeEigen<Eigen::Matrix4f>)->Name("ComposeEigenMatrix4f")->Arg(0)->Arg(1);
 BENCHMARK(InverseDispatched);
 BENCHMARK(InverseGlmDualquat);
 BENCHMARK(TransformDirectionsDispatched);

@@ -38,6 +38,48 @@ std::vector<dq::Vec3<T>> random_points(unsigned seed) {
   return out;
 }
 
+// ---- every library's transform as a dqkit 4x4 matrix in double, for the checks outside timing ----
+template <class T>
+dq::Mat4<double> as_mat4(const dq::DualQuaternion<T>& x) { return dq::to_mat4(x.template cast<double>()); }
+template <class T>
+dq::Mat4<double> as_mat4(const glm::tdualquat<T>& x) { return as_mat4(dq::glm_interop::from_glm(x)); }
+/// Any matrix read element by element through `at(r, c)`; rows past its last are (0, 0, 0, 1).
+template <int Rows, class At>
+dq::Mat4<double> read_mat4(At at) {
+  dq::Mat4<double> out = dq::Mat4<double>::identity();
+  for (int r = 0; r < Rows; ++r)
+    for (int c = 0; c < 4; ++c) out(r, c) = double(at(r, c));
+  return out;
+}
+template <class T>
+dq::Mat4<double> as_mat4(const dq::Mat4<T>& x) { return read_mat4<4>([&](int r, int c) { return x(r, c); }); }
+template <class T>
+dq::Mat4<double> as_mat4(const dq::Mat34<T>& x) { return read_mat4<3>([&](int r, int c) { return x(r, c); }); }
+template <class T>
+dq::Mat4<double> as_mat4(const glm::mat<4, 4, T>& x) { return read_mat4<4>([&](int r, int c) { return x[c][r]; }); }
+template <class T>
+dq::Mat4<double> as_mat4(const Eigen::Matrix<T, 4, 4>& x) { return read_mat4<4>([&](int r, int c) { return x(r, c); }); }
+template <class T>
+dq::Mat4<double> as_mat4(const Eigen::Transform<T, 3, Eigen::Isometry>& x) { return as_mat4(Eigen::Matrix<T, 4, 4>(x.matrix())); }
+/// Whether `got` is the transform `expected` to within `tolerance` in every entry.
+template <class M>
+bool same_transform(const M& got, const dq::DualQuaternion<double>& expected, double tolerance) {
+  const dq::Mat4<double> g = as_mat4(got), e = dq::to_mat4(expected);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      if (!(std::abs(g(r, c) - e(r, c)) <= tolerance)) return false;
+  return true;
+}
+/// Checks once, outside the timing, that out[i] is a[i] · b[i] as dqkit computes it in double
+/// (translations of about unit size: 1e-4 is float rounding with room, far below any error).
+template <class T, class M>
+void check_products(benchmark::State& state, const std::vector<dq::DualQuaternion<T>>& a, const std::vector<dq::DualQuaternion<T>>& b,
+                    const std::vector<M>& out) {
+  for (std::size_t i = 0; i < kCount; ++i)
+    if (!same_transform(out[i], a[i].template cast<double>() * b[i].template cast<double>(), 1e-4))
+      return state.SkipWithError("a product differs from the reference");
+}
+
 // ---- composition: out[i] = a[i] * b[i] -----------------------------------------------------------
 template <class T>
 void ComposeDualQuaternion(benchmark::State& state) {
@@ -48,8 +90,13 @@ void ComposeDualQuaternion(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
+  check_products(state, a, b, out);
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * kCount));
 }
+/// A peer's product of each pair, converted once by `make`. Eigen's matrices are assigned with
+/// noalias(), Eigen's documented form for a product into another matrix: a plain assignment first
+/// evaluates into a temporary and copies it, which with -mavx2 -mfma GCC 12 does as 16-byte stores
+/// read back by 32-byte loads, a failed store forwarding per product.
 template <class M, class T, class Make>
 void ComposeMatrices(benchmark::State& state, Make make) {
   const auto qa = random_transforms<T>(1), qb = random_transforms<T>(2);
@@ -59,10 +106,16 @@ void ComposeMatrices(benchmark::State& state, Make make) {
     b.push_back(make(qb[i]));
   }
   for (auto _ : state) {
-    for (std::size_t i = 0; i < kCount; ++i) out[i] = a[i] * b[i];
+    for (std::size_t i = 0; i < kCount; ++i) {
+      if constexpr (requires { out[i].noalias() = a[i] * b[i]; })
+        out[i].noalias() = a[i] * b[i];
+      else
+        out[i] = a[i] * b[i];
+    }
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
+  check_products(state, qa, qb, out);
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * kCount));
 }
 template <class T>
@@ -82,6 +135,7 @@ void ComposeDqkitMat34(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
+  check_products(state, qa, qb, out);
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * kCount));
 }
 template <class T>
@@ -107,55 +161,53 @@ void ComposeGlmDualquat(benchmark::State& s) {
 /// operands enter it differently (a matrix product broadcasts the right operand's elements, the
 /// four-lane Hamilton product the left's), so the two chains cost different amounts.
 enum class Chained { left, right };
-/// The chain's result of each representation, as a dqkit 4x4 matrix, is checked once outside the
-/// timing against the dual-quaternion chain computed in double (the same work, the same result).
-template <class M, Chained side = Chained::left, class Make, class ToMat4>
-void ComposeChain(benchmark::State& state, Make make, ToMat4 to_mat4) {
+/// How a chain assigns each product: as users write it, x = x * a[i]; or, for Eigen, into a second
+/// matrix with noalias() and back (y = x * a[i], x = y * a[i + 1]), which skips the temporary that
+/// Eigen's plain assignment evaluates the product into (an aliasing product needs one).
+enum class Assign { plain, two_buffers };
+/// The chain's result of each representation is checked once outside the timing against the
+/// dual-quaternion chain computed in double (the same work, the same result).
+template <class M, Chained side = Chained::left, Assign assign = Assign::plain, class Make>
+void ComposeChain(benchmark::State& state, Make make) {
   const auto q = random_transforms<float>(7);
   std::vector<M> a;
   for (const auto& x : q) a.push_back(make(x));
   const auto step = [](const auto& x, const auto& next) { return side == Chained::left ? x * next : next * x; };
   auto chain = [&a, &step] {
     M x = a[0];
-    for (std::size_t i = 1; i < kCount; ++i) x = step(x, a[i]);
+    std::size_t i = 1;
+    if constexpr (assign == Assign::two_buffers) {
+      M y;
+      for (; i + 1 < kCount; i += 2) {
+        y.noalias() = step(x, a[i]);
+        x.noalias() = step(y, a[i + 1]);
+      }
+    }
+    for (; i < kCount; ++i) x = step(x, a[i]);
     return x;
   };
   dq::DualQuaternion<double> reference = q[0].template cast<double>();
   for (std::size_t i = 1; i < kCount; ++i) reference = step(reference, q[i].template cast<double>());
-  const dq::Mat4<double> expected = dq::to_mat4(reference), got = to_mat4(chain());
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c)
-      if (!(std::abs(got(r, c) - expected(r, c)) < 1e-2)) state.SkipWithError("the chain's result differs from the reference");
+  if (!same_transform(chain(), reference, 1e-2)) state.SkipWithError("the chain's result differs from the reference");
+  benchmark::DoNotOptimize(a.data());  // the inputs escape: the chain cannot be hoisted out of the timing loop
   for (auto _ : state) benchmark::DoNotOptimize(chain());
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * (kCount - 1)));
 }
-/// A 4x4 matrix of any library, read element by element through `at(r, c)`, in double.
-template <class At>
-dq::Mat4<double> read_mat4(At at) {
-  dq::Mat4<double> out;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out(r, c) = at(r, c);
-  return out;
-}
 template <Chained side>
 void ChainDualQuaternion(benchmark::State& s) {
-  ComposeChain<dq::DualQuaternion<float>, side>(s, [](const auto& q) { return q; },
-                                                [](const auto& x) { return dq::to_mat4(x.template cast<double>()); });
+  ComposeChain<dq::DualQuaternion<float>, side>(s, [](const auto& q) { return q; });
 }
 template <Chained side>
 void ChainGlmDualquat(benchmark::State& s) {
-  ComposeChain<glm::dualquat, side>(s, [](const auto& q) { return dq::glm_interop::to_glm(q); },
-                                    [](const glm::dualquat& x) { return dq::to_mat4(dq::glm_interop::from_glm(x).cast<double>()); });
+  ComposeChain<glm::dualquat, side>(s, [](const auto& q) { return dq::glm_interop::to_glm(q); });
 }
 template <Chained side>
 void ChainGlmMat4(benchmark::State& s) {
-  ComposeChain<glm::mat4, side>(s, [](const auto& q) { return dq::glm_interop::to_glm(dq::to_mat4(q)); },
-                                [](const glm::mat4& x) { return read_mat4([&](int r, int c) { return x[c][r]; }); });
+  ComposeChain<glm::mat4, side>(s, [](const auto& q) { return dq::glm_interop::to_glm(dq::to_mat4(q)); });
 }
-template <Chained side>
+template <Chained side, Assign assign>
 void ChainEigenMatrix4(benchmark::State& s) {
-  ComposeChain<Eigen::Matrix4f, side>(s, [](const auto& q) { return dq::eigen::to_eigen(dq::to_mat4(q)); },
-                                      [](const Eigen::Matrix4f& x) { return read_mat4([&](int r, int c) { return x(r, c); }); });
+  ComposeChain<Eigen::Matrix4f, side, assign>(s, [](const auto& q) { return dq::eigen::to_eigen(dq::to_mat4(q)); });
 }
 
 // ---- transforming points: out[i] = T[i] p[i] -----------------------------------------------------
@@ -229,9 +281,11 @@ void PointGlmDualquat(benchmark::State& s) {
 }
 
 // ---- interpolation ---------------------------------------------------------------------------------
-/// slerp over 1024 random pairs, the inputs converted once to the library's type by `make`.
-template <class Q, class Make, class Slerp>
-void SlerpWith(benchmark::State& state, Make make, Slerp slerp) {
+/// slerp over 1024 random pairs, the inputs converted once to the library's type by `make`; each
+/// result, read back by `read`, is checked once against dqkit's slerp in double (every library
+/// takes the shorter arc, so the rotations agree; q and −q are the same rotation).
+template <class Q, class Make, class Slerp, class Read>
+void SlerpWith(benchmark::State& state, Make make, Slerp slerp, Read read) {
   const auto a = random_transforms<float>(5), b = random_transforms<float>(6);
   std::vector<Q> qa, qb, out(kCount);
   for (std::size_t i = 0; i < kCount; ++i) {
@@ -243,19 +297,26 @@ void SlerpWith(benchmark::State& state, Make make, Slerp slerp) {
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
+  for (std::size_t i = 0; i < kCount; ++i) {
+    const dq::Quaternion<double> expected = dq::slerp(a[i].real.cast<double>(), b[i].real.cast<double>(), 0.3);
+    if (!dq::approx_equal(read(out[i]).template cast<double>(), expected, 1e-5, dq::SignPolicy::same_rotation))
+      return state.SkipWithError("a slerp differs from the reference");
+  }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * kCount));
 }
 void SlerpDqkit(benchmark::State& s) {
   SlerpWith<dq::Quaternion<float>>(s, [](const auto& q) { return q; },
-                                   [](const auto& x, const auto& y, float t) { return dq::slerp(x, y, t); });
+                                   [](const auto& x, const auto& y, float t) { return dq::slerp(x, y, t); }, [](const auto& q) { return q; });
 }
 void SlerpEigen(benchmark::State& s) {
   SlerpWith<Eigen::Quaternionf>(s, [](const auto& q) { return dq::eigen::to_eigen(q); },
-                                [](const auto& x, const auto& y, float t) { return x.slerp(t, y); });
+                                [](const auto& x, const auto& y, float t) { return x.slerp(t, y); },
+                                [](const Eigen::Quaternionf& q) { return dq::eigen::from_eigen(q); });
 }
 void SlerpGlm(benchmark::State& s) {
   SlerpWith<glm::quat>(s, [](const auto& q) { return dq::glm_interop::to_glm(q); },
-                       [](const auto& x, const auto& y, float t) { return glm::slerp(x, y, t); });
+                       [](const auto& x, const auto& y, float t) { return glm::slerp(x, y, t); },
+                       [](const glm::quat& q) { return dq::glm_interop::from_glm(q); });
 }
 void SclerpDqkit(benchmark::State& state) {
   const auto a = random_transforms<float>(5), b = random_transforms<float>(6);
@@ -283,11 +344,13 @@ BENCHMARK(ComposeGlmMat4<double>);
 BENCHMARK(ChainDualQuaternion<Chained::left>)->Name("ChainDualQuaternion");
 BENCHMARK(ChainGlmDualquat<Chained::left>)->Name("ChainGlmDualquat");
 BENCHMARK(ChainGlmMat4<Chained::left>)->Name("ChainGlmMat4");
-BENCHMARK(ChainEigenMatrix4<Chained::left>)->Name("ChainEigenMatrix4");
+BENCHMARK(ChainEigenMatrix4<Chained::left, Assign::plain>)->Name("ChainEigenMatrix4");
+BENCHMARK(ChainEigenMatrix4<Chained::left, Assign::two_buffers>)->Name("ChainEigenMatrix4TwoBuffers");
 BENCHMARK(ChainDualQuaternion<Chained::right>)->Name("PrependChainDualQuaternion");
 BENCHMARK(ChainGlmDualquat<Chained::right>)->Name("PrependChainGlmDualquat");
 BENCHMARK(ChainGlmMat4<Chained::right>)->Name("PrependChainGlmMat4");
-BENCHMARK(ChainEigenMatrix4<Chained::right>)->Name("PrependChainEigenMatrix4");
+BENCHMARK(ChainEigenMatrix4<Chained::right, Assign::plain>)->Name("PrependChainEigenMatrix4");
+BENCHMARK(ChainEigenMatrix4<Chained::right, Assign::two_buffers>)->Name("PrependChainEigenMatrix4TwoBuffers");
 BENCHMARK(PointDualQuaternion);
 BENCHMARK(PointDualQuaternionSandwich);
 BENCHMARK(PointMat34);

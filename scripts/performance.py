@@ -22,7 +22,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-ARGS = ["--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true", "--benchmark_format=json"]
+# Repetitions in random order across the cases, so that a machine whose bandwidth drifts during a
+# run (another tenant's load) does not favour the cases that run first (dqkit's, then the peers').
+ARGS = ["--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true", "--benchmark_format=json",
+        "--benchmark_enable_random_interleaving=true"]
 
 
 def quiet(command):
@@ -57,9 +60,10 @@ def ns(cases, name):
 ONE_AT_A_TIME = (
     ("compose, throughput (out[i] = a[i] * b[i])", ["ComposeDualQuaternion<float>"],
      ["ComposeGlmDualquat<float>", "ComposeGlmMat4<float>", "ComposeEigenMatrix4<float>", "ComposeEigenIsometry<float>"]),
-    ("compose, latency chain (x = x * a[i])", ["ChainDualQuaternion"], ["ChainGlmDualquat", "ChainGlmMat4", "ChainEigenMatrix4"]),
+    ("compose, latency chain (x = x * a[i])", ["ChainDualQuaternion"],
+     ["ChainGlmDualquat", "ChainGlmMat4", "ChainEigenMatrix4", "ChainEigenMatrix4TwoBuffers"]),
     ("compose, latency chain prepending (x = a[i] * x)", ["PrependChainDualQuaternion"],
-     ["PrependChainGlmDualquat", "PrependChainGlmMat4", "PrependChainEigenMatrix4"]),
+     ["PrependChainGlmDualquat", "PrependChainGlmMat4", "PrependChainEigenMatrix4", "PrependChainEigenMatrix4TwoBuffers"]),
     ("compose in double, throughput", ["ComposeDualQuaternion<double>"], ["ComposeGlmMat4<double>", "ComposeEigenIsometry<double>"]),
     ("transform a point", ["PointDualQuaternion", "PointMat34"], ["PointEigenIsometry", "PointGlmMat4", "PointGlmDualquat"]),
     ("slerp", ["SlerpDqkit"], ["SlerpEigen", "SlerpGlm"]),
@@ -158,7 +162,7 @@ def run_suite(build):
     if "bench_skin" in optional:
         results["bench_skin"] = run(build, "bench_skin")
     if "bench_ik" in optional:
-        results["bench_ik"] = run(build, "bench_ik", ["--benchmark_enable_random_interleaving=true"])
+        results["bench_ik"] = run(build, "bench_ik")
     with open(os.path.join(ROOT, "docs", "performance.json"), "w") as f:
         json.dump(results, f, indent=1)
     return results
@@ -181,7 +185,7 @@ def main(results):
     add(f"Machine: {ctx['cpu_model']}, {ctx['num_cpus']} cores, last-level cache {ctx['llc_MB']} MB (read from {LLC_SOURCE.get(ctx.get('llc_source'), 'sysfs')}); widest dispatch "
         f"target: {ctx['simd_target']}; GCC 12, Release, portable flags (no `-march`). Command: "
         "`/usr/bin/python3 scripts/performance.py` (runs `bench_batch`, `bench_core`, `bench_skin` and `bench_ik` with 3 "
-        "repetitions, medians, and `bench_core` again built with `-mavx2 -mfma` in build/bench-avx2; raw results in "
+        "repetitions in random order, medians, and `bench_core` again built with `-mavx2 -mfma` in build/bench-avx2; raw results in "
         "`docs/performance.json`).")
     add("")
     add("### The machine's limits (same run)")
@@ -193,9 +197,10 @@ def main(results):
     add(f"| peak AVX2 FMA | {fmt(b['PeakFma']['flops'], 'FLOP/s')} | |")
     add("")
     add("### Forward kinematics, 64-joint skeletons (float)")
-    add("| case | joints/s | bytes/s | × Eigen `Isometry3f` pose by pose | fraction of the 1-thread copy roofline |")
-    add("| --- | ---: | ---: | ---: | ---: |")
+    add("| case | joints/s | bytes/s | × Eigen `Isometry3f` pose by pose | × Eigen `Matrix4f` pose by pose | fraction of the 1-thread copy roofline |")
+    add("| --- | ---: | ---: | ---: | ---: | ---: |")
     eigen = b["FkEigenPerPose/10000/real_time"]["joints_per_s"]
+    eigen4 = b["FkEigenMatrix4fPerPose/10000/real_time"]["joints_per_s"]
     for name, label in (
         ("FkBlocksDispatched/10000/1/real_time", "10,000 skeletons, dqkit pose blocks, dispatched, 1 thread"),
         ("FkBlocksDispatched/10000/2/real_time", "10,000 skeletons, dqkit pose blocks, dispatched, 2 threads"),
@@ -205,6 +210,7 @@ def main(results):
         ("FkDispatched/10000/2/real_time", "10,000 skeletons, dqkit joint-major, dispatched, 2 threads"),
         ("FkScalarJob/10000/real_time", "10,000 skeletons, dqkit joint-major job, auto-vectorized"),
         ("FkEigenPerPose/10000/real_time", "10,000 skeletons, Eigen `Isometry3f` pose by pose"),
+        ("FkEigenMatrix4fPerPose/10000/real_time", "10,000 skeletons, Eigen `Matrix4f` pose by pose (`noalias()`)"),
         ("FkBlocksDispatched/100000/1/real_time", "100,000 skeletons, dqkit pose blocks, dispatched, 1 thread"),
         ("FkBlocksDispatched/100000/2/real_time", "100,000 skeletons, dqkit pose blocks, dispatched, 2 threads"),
         ("FkBlocksStreaming/100000/1/real_time", "100,000 skeletons, dqkit pose blocks, streaming stores, 1 thread"),
@@ -215,10 +221,11 @@ def main(results):
     ):
         r = b[name]
         add(f"| {label} | {fmt(r['joints_per_s'])} | {fmt(r['bytes_per_second'], 'B/s')} | {r['joints_per_s'] / eigen:.2f} | "
-            f"{r['bytes_per_second'] / copy1:.2f} |")
+            f"{r['joints_per_s'] / eigen4:.2f} | {r['bytes_per_second'] / copy1:.2f} |")
     one_dq, one_eigen = b["FkOneSkeletonDualQuaternion"]["joints_per_s"], b["FkOneSkeletonEigenIsometry3f"]["joints_per_s"]
-    add(f"| one skeleton at a time, dqkit `DualQuaternion<float>` | {fmt(one_dq)} | | {one_dq / one_eigen:.2f} × Eigen one at a time | |")
-    add(f"| one skeleton at a time, Eigen `Isometry3f` | {fmt(one_eigen)} | | 1.00 | |")
+    one_eigen4 = b["FkOneSkeletonEigenMatrix4f"]["joints_per_s"]
+    for label, rate in (("dqkit `DualQuaternion<float>`", one_dq), ("Eigen `Isometry3f`", one_eigen), ("Eigen `Matrix4f`", one_eigen4)):
+        add(f"| one skeleton at a time, {label} | {fmt(rate)} | | {rate / one_eigen:.2f} | {rate / one_eigen4:.2f} | |")
     add("")
     add("### Points and compositions (one transform per element; hot: 4096 elements, DRAM: arrays of 4 × LLC)")
     add("| case | hot, per second | DRAM, per second | × peer (hot / DRAM) |")
@@ -230,9 +237,11 @@ def main(results):
     cd = (b["ComposeDispatched/0"]["per_s"], b["ComposeDispatched/1"]["per_s"])
     cg = (b["ComposeGlmDualquat/0"]["per_s"], b["ComposeGlmDualquat/1"]["per_s"])
     ce = (b["ComposeEigenIsometry3f/0"]["per_s"], b["ComposeEigenIsometry3f/1"]["per_s"])
+    ce4 = (b["ComposeEigenMatrix4f/0"]["per_s"], b["ComposeEigenMatrix4f/1"]["per_s"])
     add(f"| compose, dqkit dispatched | {fmt(cd[0])} | {fmt(cd[1])} | {cd[0] / cg[0]:.2f} / {cd[1] / cg[1]:.2f} × GLM `dualquat` |")
     add(f"| compose, GLM `dualquat` | {fmt(cg[0])} | {fmt(cg[1])} | 1.00 |")
     add(f"| compose, Eigen `Isometry3f` | {fmt(ce[0])} | {fmt(ce[1])} | {ce[0] / cg[0]:.2f} / {ce[1] / cg[1]:.2f} |")
+    add(f"| compose, Eigen `Matrix4f` (`noalias()`) | {fmt(ce4[0])} | {fmt(ce4[1])} | {ce4[0] / cg[0]:.2f} / {ce4[1] / cg[1]:.2f} |")
     sd, se = b["SlerpDispatched"]["per_s"], b["SlerpEigen"]["per_s"]
     add(f"| slerp over arrays, dqkit dispatched (no failure case) | {fmt(sd)} | | {sd / se:.2f} × Eigen per element |")
     add(f"| slerp, Eigen `Quaternionf::slerp` per element | {fmt(se)} | | 1.00 |")
@@ -285,8 +294,9 @@ def main(results):
     ax[0].axhline(1.0, color="grey", linestyle=":")
     ax[0].set_ylabel("fraction of the 1-thread copy bandwidth")
     ax[0].set_title("Batch forward kinematics against the memory roofline")
-    ratios = {"FK 10k (pose blocks) vs Eigen": b["FkBlocksDispatched/10000/1/real_time"]["joints_per_s"] / eigen,
-              "one skeleton vs Eigen": one_dq / one_eigen,
+    ratios = {"FK 10k (pose blocks) vs Eigen Isometry3f": b["FkBlocksDispatched/10000/1/real_time"]["joints_per_s"] / eigen,
+              "FK 10k (pose blocks) vs Eigen Matrix4f": b["FkBlocksDispatched/10000/1/real_time"]["joints_per_s"] / eigen4,
+              "one skeleton vs Eigen Isometry3f": one_dq / one_eigen, "one skeleton vs Eigen Matrix4f": one_dq / one_eigen4,
               "points vs Eigen (hot)": tp[0] / te[0], "points vs Eigen (DRAM)": tp[1] / te[1],
               "compose vs GLM dq (hot)": cd[0] / cg[0], "slerp arrays vs Eigen": sd / se,
               "slerp one at a time vs Eigen": ns(c, "SlerpEigen") / ns(c, "SlerpDqkit"),
