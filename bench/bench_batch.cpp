@@ -2,8 +2,8 @@
 // copy and triad bandwidth over arrays four times the last-level cache (read from the CPU, which is
 // 32 MB on some machines of this kind and 260 MB on others), one and two threads, and the peak
 // rate of vector multiply-adds; then forward kinematics of 10,000 and 100,000 skeletons of 64
-// joints (dqkit's run-time dispatched kernel, the scalar job, Eigen Isometry3f pose by pose; one and
-// two threads), one skeleton at a time, transforming points, and composing arrays hot in cache and
+// joints (dqkit's run-time dispatched kernel, the scalar job, Eigen Isometry3f and Matrix4f pose by
+// pose; one and two threads), one skeleton at a time, transforming points, and composing arrays hot in cache and
 // in DRAM, against Eigen and GLM in the same binary; inverse, directions, normalize, DLB and
 // sclerp over 4096 elements hot in cache against GLM, Eigen and dqkit's scalar sclerp per element.
 // Every variant's result is checked once,
