@@ -10,10 +10,13 @@
 // bones and weights in, positions and normals out, CoR's centres; write-allocate reads not counted,
 // as for the triad); roofline = bytes_per_second ÷ the triad's, same thread count.
 //   build/release/bench/bench_skin --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+// In the cache: DQKIT_BENCH_SKIN_VERTICES=16384 build/release/bench/bench_skin --benchmark_filter='dqkit'
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtx/dual_quaternion.hpp>
@@ -38,7 +41,18 @@ constexpr std::size_t kInfluences = 4;
 /// normals out (24), and for CoR the centre (12).
 std::size_t bytes_per_vertex(SkinningMethod m) { return 24 + 8 * kInfluences + 24 + (m == SkinningMethod::cor ? 12 : 0); }
 
+/// The skin's size: DQKIT_BENCH_SKIN_VERTICES if set (a positive count, rounded up to a multiple of
+/// 16; a skin that fits in the cache times the kernels' instructions alone), else the size above.
 std::size_t vertex_count() {
+  if (const char* text = std::getenv("DQKIT_BENCH_SKIN_VERTICES")) {
+    char* end = nullptr;
+    const unsigned long long n = std::strtoull(text, &end, 10);
+    if (end == text || *end != '\0' || n == 0 || n > (std::size_t{1} << 32)) {
+      std::fprintf(stderr, "bench_skin: DQKIT_BENCH_SKIN_VERTICES must be a count from 1 to 2^32, not '%s'\n", text);
+      std::exit(2);
+    }
+    return (static_cast<std::size_t>(n) + 15) / 16 * 16;
+  }
   const std::size_t cache = 4 * bench::last_level_cache_bytes() / bytes_per_vertex(SkinningMethod::dqs);
   return (std::max<std::size_t>(std::size_t{1} << 20, cache) + 15) / 16 * 16;
 }
