@@ -16,8 +16,7 @@ using float8 = float __attribute__((vector_size(32)));
 constexpr long kCopies = 20'000'000;
 
 /// The best time per copy, in ns, of five runs of `run` (which performs kCopies dependent copies).
-template <class Run>
-double best_ns(Run run) {
+double best_ns(void (*run)()) {
   double best = 1e300;
   for (int r = 0; r < 5; ++r) {
     const auto start = std::chrono::steady_clock::now();
