@@ -25,7 +25,7 @@ instructions() {
 }
 echo "| case | instructions per operation, portable | with -mavx2 -mfma |"
 echo "| --- | ---: | ---: |"
-for c in chain_dqkit chain_eigen_matrix4f compose_dqkit compose_glm_dualquat point_dqkit point_eigen_isometry3f point_glm_mat4 point_glm_dualquat \
+for c in chain_dqkit chain_eigen_matrix4f chain_eigen_matrix4f_two_buffers compose_dqkit compose_glm_dualquat point_dqkit point_eigen_isometry3f point_glm_mat4 point_glm_dualquat \
          slerp_dqkit slerp_eigen slerp_glm; do
   row="| $c"
   for build in build/release build/bench-avx2; do
