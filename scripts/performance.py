@@ -98,9 +98,9 @@ def skinning_tables(add, s, context):
     add(f"### Skinning, {int(context['vertices']):,} vertices × 4 influences, positions and normals (bench_skin)")
     add("The GLM peers are the plain per-vertex loops over arrays of structures, each checked once against "
         "dqkit's result outside the timing; bytes per vertex: 80, 92 for CoR (its centre); the triad is measured "
-        "by bench_skin itself before the cases, the median of five passes after an untimed one; with two threads "
-        "it reads higher than the Triad case of the limits table above, which times fewer passes on fresh arrays, "
-        "because on this machine two threads' bandwidth rises over the first passes (docs/skinning.md).")
+        "by bench_skin itself before the cases (the median of five passes after an untimed one), so it can differ "
+        "from the Triad cases of the limits table above, which are timed separately (docs/skinning.md, "
+        "\"The two-thread triad\").")
     for threads in (1, 2):
         def case(name):
             return s[f"{name}/{threads}/real_time"]
