@@ -135,9 +135,11 @@ template <class V>
   return {r0.x * n.x + r1.x * n.y + r2.x * n.z, r0.y * n.x + r1.y * n.y + r2.y * n.z, r0.z * n.x + r1.z * n.y + r2.z * n.z};
 }
 
-/// How far ahead of the vertex being skinned the vector kernels prefetch, in vertices (4 KB per
-/// stream: at least one memory latency of work ahead at the measured rates).
-constexpr std::size_t kPrefetchAhead = 1024;
+/// How far ahead of the vertex being skinned the vector kernels prefetch, in vertices: 512 bytes per
+/// stream, about 0.4 µs of work at 300 M vertices/s, several memory latencies. Farther is slower:
+/// twenty streams 1024 vertices ahead hold 80 KB in flight, more than an L1 data cache, and DQS from
+/// DRAM ran slower in eight of nine paired runs (docs/skinning.md).
+constexpr std::size_t kPrefetchAhead = 128;
 
 /// What a kernel reads and writes, resolved once per range.
 struct Streams {
