@@ -10,7 +10,8 @@
 // bones and weights in, positions and normals out, CoR's centres; write-allocate reads not counted,
 // as for the triad); roofline = bytes_per_second ÷ the triad's, same thread count.
 //   build/release/bench/bench_skin --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
-// In the cache: DQKIT_BENCH_SKIN_VERTICES=16384 build/release/bench/bench_skin --benchmark_filter='dqkit'
+// In L2 (4,096 vertices are 328 KB; 16,384 are 1.31 MB, more than a 1 MB L2):
+//   DQKIT_BENCH_SKIN_VERTICES=4096 build/release/bench/bench_skin --benchmark_filter='dqkit'
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -42,7 +43,7 @@ constexpr std::size_t kInfluences = 4;
 std::size_t bytes_per_vertex(SkinningMethod m) { return 24 + 8 * kInfluences + 24 + (m == SkinningMethod::cor ? 12 : 0); }
 
 /// The skin's size: DQKIT_BENCH_SKIN_VERTICES if set (a positive count, rounded up to a multiple of
-/// 16; a skin that fits in the cache times the kernels' instructions alone), else the size above.
+/// 16; a skin that fits in L2 times the kernels' instructions alone), else the size above.
 std::size_t vertex_count() {
   if (const char* text = std::getenv("DQKIT_BENCH_SKIN_VERTICES")) {
     char* end = nullptr;
