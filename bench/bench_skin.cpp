@@ -29,6 +29,7 @@
 #include "dq/convert/matrix.hpp"
 #include "dq/simd/batch.hpp"
 #include "dq/skin/skinning.hpp"
+#include "dq/util/component_arrays.hpp"
 #include "machine.hpp"
 
 namespace {
@@ -110,15 +111,13 @@ struct Fixture {
     pose.resize(kBones);
     for (auto& p : pose) p = rigid();
     update_palette(skin, pose, palette);
-    const auto slot_bones = skin.slot_bones();
-    const auto slot_weights = skin.slot_weights();
     for (std::size_t v = 0; v < n; ++v) {
       positions.emplace_back(skin.px()[v], skin.py()[v], skin.pz()[v]);
       normals.emplace_back(skin.nx()[v], skin.ny()[v], skin.nz()[v]);
       centers.emplace_back(skin.cx()[v], skin.cy()[v], skin.cz()[v]);
       glm::uvec4 j;
       glm::vec4 w;
-      for (std::size_t k = 0; k < kInfluences; ++k) j[int(k)] = slot_bones[k * n + v], w[int(k)] = slot_weights[k * n + v];
+      for (std::size_t k = 0; k < kInfluences; ++k) j[int(k)] = skin.slot_bones(k)[v], w[int(k)] = skin.slot_weights(k)[v];
       joints.push_back(j);
       weights.push_back(w);
     }
@@ -141,13 +140,11 @@ Fixture& fixture() {
   return f;
 }
 
-/// dqkit's output: positions and normals, six arrays (in one skewed ComponentArrays they measured
-/// no faster here, docs/performance.md).
+/// dqkit's output: positions and normals, six arrays in one ComponentArrays (aligned to cache lines
+/// and skewed, as the skin's arrays are: no two of the kernel's streams share their cache sets).
 struct Output {
-  std::vector<float> c[6];
-  explicit Output(std::size_t n) {
-    for (auto& x : c) x.assign(n, 0.0f);
-  }
+  ComponentArrays<float, 6> c;
+  explicit Output(std::size_t n) : c(n) {}
   SkinnedVertices view() { return {c[0], c[1], c[2], c[3], c[4], c[5], {}, {}, {}}; }
 };
 

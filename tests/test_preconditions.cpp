@@ -3,6 +3,7 @@
 // outputs untouched.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -160,6 +161,45 @@ void check_size_limit() {
   std::size_t bytes = 0;
   EXPECT_FALSE(__builtin_mul_overflow(N * sizeof(T), A::max_size() + 3 * A::line, &bytes));
   EXPECT_THROW(A(A::max_size() + 1), std::length_error);
+}
+
+// A count given at run time (the skin's arrays): the same layout, and copies of their own.
+TEST(ComponentArrays, ARunTimeCountIsAlignedApartAndSkewedAndCopiesAreDeep) {
+  using A = ComponentArrays<float, std::dynamic_extent>;
+  for (std::size_t n : {0u, 1u, 1000u, 1024u, 4096u})
+    for (std::size_t count : {1u, 5u, 20u}) {
+      SCOPED_TRACE(testing::Message() << "n " << n << " count " << count);
+      A a(n, count);
+      ASSERT_EQ(a.count(), count);
+      ASSERT_EQ(a.size(), n);
+      for (std::size_t k = 0; k < count; ++k) {
+        ASSERT_EQ(a[k].size(), n);
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a[k].data()) % 64, 0u);
+        EXPECT_EQ(a[k].data(), a[0].data() + k * a.distance());
+        for (std::size_t l = 0; l < k; ++l)
+          EXPECT_NE(static_cast<std::size_t>(a[k].data() - a[l].data()) * sizeof(float) % 4096, 0u) << "arrays " << k << " and " << l;
+        for (std::size_t i = 0; i < n; ++i) {
+          ASSERT_EQ(a[k][i], 0.0f);
+          a[k][i] = float(k * n + i);
+        }
+      }
+      A copy = a;
+      A assigned(1, 1);
+      assigned = a;
+      for (const A* c : {&copy, &assigned}) {
+        ASSERT_EQ(c->count(), count);
+        ASSERT_EQ(c->size(), n);
+        for (std::size_t k = 0; k < count; ++k) {
+          EXPECT_NE((*c)[k].data(), a[k].data());
+          EXPECT_TRUE(std::equal((*c)[k].begin(), (*c)[k].end(), a[k].begin()));
+        }
+      }
+      if (n > 0) {
+        copy[count - 1][n - 1] = -1;
+        EXPECT_EQ(a[count - 1][n - 1], float((count - 1) * n + n - 1));
+      }
+    }
+  EXPECT_THROW(A(A::max_size(3) + 1, 3), std::length_error);
 }
 
 TEST(ComponentArrays, AreAlignedZeroedApartAndSkewed) {

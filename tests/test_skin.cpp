@@ -206,18 +206,18 @@ TEST(SkinContract, NormalizesOnceAndOrdersCanonically) {
   ASSERT_TRUE(skin.has_value()) << skin.error().message;
   EXPECT_EQ(skin->renormalized_vertices(), 1u);
   ASSERT_EQ(skin->slots(), 3u);
-  const auto bones = skin->slot_bones();
-  const auto weights = skin->slot_weights();
+  auto bone = [&](std::size_t k, std::size_t v) { return skin->slot_bones(k)[v]; };
+  auto weight = [&](std::size_t k, std::size_t v) { return skin->slot_weights(k)[v]; };
   // Vertex 0: weight descending, ties by bone (0 before 1), then bone 2.
-  EXPECT_EQ(bones[0], 0u);
-  EXPECT_EQ(bones[2], 1u);
-  EXPECT_EQ(bones[4], 2u);
-  EXPECT_FLOAT_EQ(weights[0] + weights[2] + weights[4], 1.0f);
+  EXPECT_EQ(bone(0, 0), 0u);
+  EXPECT_EQ(bone(1, 0), 1u);
+  EXPECT_EQ(bone(2, 0), 2u);
+  EXPECT_FLOAT_EQ(weight(0, 0) + weight(1, 0) + weight(2, 0), 1.0f);
   // Vertex 1: one influence, normalized to 1, padded with weight 0 on its own bone.
-  EXPECT_EQ(weights[1], 1.0f);
-  EXPECT_EQ(weights[3], 0.0f);
-  EXPECT_EQ(weights[5], 0.0f);
-  EXPECT_EQ(bones[3], 1u);
+  EXPECT_EQ(weight(0, 1), 1.0f);
+  EXPECT_EQ(weight(1, 1), 0.0f);
+  EXPECT_EQ(weight(2, 1), 0.0f);
+  EXPECT_EQ(bone(1, 1), 1u);
 }
 
 // ---- DQS against independent computations ----------------------------------------------------
@@ -415,9 +415,19 @@ TEST(SkinningTargets, EveryTargetIsTheScalarPathBitForBit) {
             Output o(n);
             ASSERT_TRUE(SkinningThreads(1).run({&skin, &palette, m, o.view(true, true), first, n - first - 2}).ok());
             results.push_back(std::move(o));
+            // Again on two threads, into arrays that start cache lines (ComponentArrays), so that
+            // the vectors' loads and stores meet lines whole at first = 0 and split at 3.
+            ComponentArrays<float, 9> a(n);
+            const SkinnedVertices view{a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8]};
+            ASSERT_TRUE(SkinningThreads(2).run({&skin, &palette, m, view, first, n - first - 2}).ok());
+            Output aligned(n);
+            std::vector<float>* parts[] = {&aligned.px, &aligned.py, &aligned.pz, &aligned.nx, &aligned.ny, &aligned.nz, &aligned.tx, &aligned.ty, &aligned.tz};
+            for (std::size_t k = 0; k < 9; ++k) std::copy(a[k].begin(), a[k].end(), parts[k]->begin());
+            results.push_back(std::move(aligned));
           });
+          // results: each target's run, then its run into ComponentArrays; [0] is the scalar path's.
           for (std::size_t t = 1; t < results.size(); ++t) {
-            SCOPED_TRACE(std::string(simd::to_string(simd::Target(t))));
+            SCOPED_TRACE(std::string(simd::to_string(simd::Target(t / 2))) + (t % 2 ? ", into ComponentArrays on two threads" : ""));
             for (auto part : {&Output::px, &Output::py, &Output::pz, &Output::nx, &Output::ny, &Output::nz, &Output::tx, &Output::ty, &Output::tz})
               for (std::size_t v = 0; v < n; ++v)
                 ASSERT_EQ(std::memcmp(&(results[t].*part)[v], &(results[0].*part)[v], sizeof(float)), 0)
@@ -460,7 +470,7 @@ TEST(Skinning, CentresOfRotationOfACylinderLieOnItsAxis) {
   const Skin skin = *build_skin(two_bone_cylinder(shape));
   std::size_t blended = 0;
   for (std::size_t v = 0; v < skin.vertex_count(); ++v) {
-    const float w0 = skin.slot_weights()[v];
+    const float w0 = skin.slot_weights(0)[v];
     const Vec3<float> c = skin.center(v);
     if (w0 == 1.0f) {
       EXPECT_EQ(c, skin.position(v)) << "one influence: the centre is the vertex";

@@ -94,8 +94,8 @@ Expected<Skin> build_skin(const RawSkin& raw, const SkinOptions& options) {
     slots = std::max<std::size_t>(slots, raw.influence_offsets[v + 1] - raw.influence_offsets[v]);
   }
   s.slots_ = slots;
-  s.bone_.assign(slots * n, 0);
-  s.weight_.assign(slots * n, 0.0f);
+  s.bone_ = ComponentArrays<std::uint32_t, std::dynamic_extent>(n, slots);
+  s.weight_ = ComponentArrays<float, std::dynamic_extent>(n, slots);
   for (std::size_t v = 0; v < n; ++v) {
     const std::string where = "skin: vertex " + std::to_string(v) + ": ";
     if (!finite(raw.positions[v])) return Error{where + "the position is not finite"};
@@ -118,20 +118,28 @@ Expected<Skin> build_skin(const RawSkin& raw, const SkinOptions& options) {
     });
     for (std::size_t k = 0; k < slots; ++k) {
       // Padding repeats the pivot's bone with weight 0 (no contribution, a valid palette index).
-      s.bone_[k * n + v] = k < sorted.size() ? sorted[k].bone : sorted[0].bone;
-      s.weight_[k * n + v] = k < sorted.size() ? static_cast<float>(static_cast<double>(sorted[k].weight) / sum) : 0.0f;
+      s.bone_[k][v] = k < sorted.size() ? sorted[k].bone : sorted[0].bone;
+      s.weight_[k][v] = k < sorted.size() ? static_cast<float>(static_cast<double>(sorted[k].weight) / sum) : 0.0f;
     }
   }
-  auto split = [n](const std::vector<Vec3<float>>& in, std::vector<float>& x, std::vector<float>& y, std::vector<float>& z) {
-    if (in.empty()) return;
-    x.resize(n), y.resize(n), z.resize(n);
-    for (std::size_t v = 0; v < n; ++v) x[v] = in[v].x, y[v] = in[v].y, z[v] = in[v].z;
+  // The coordinate arrays: positions, then normals, tangents and centres where the skin has them.
+  std::size_t arrays = 3;
+  for (const bool present : {!raw.normals.empty(), !raw.tangents.empty(), options.centers_of_rotation}) arrays += present ? 3 : 0;
+  s.coordinates_ = ComponentArrays<float, std::dynamic_extent>(n, arrays);
+  std::size_t next = 0;  // the next unused array
+  auto split = [&](const std::vector<Vec3<float>>& in) -> std::size_t {
+    if (in.empty()) return 0;
+    for (std::size_t v = 0; v < n; ++v) s.coordinates_[next][v] = in[v].x, s.coordinates_[next + 1][v] = in[v].y, s.coordinates_[next + 2][v] = in[v].z;
+    return std::exchange(next, next + 3);
   };
-  split(raw.positions, s.px_, s.py_, s.pz_);
-  split(raw.normals, s.nx_, s.ny_, s.nz_);
-  split(raw.tangents, s.tx_, s.ty_, s.tz_);
+  split(raw.positions);
+  s.normals_at_ = split(raw.normals);
+  s.tangents_at_ = split(raw.tangents);
   s.triangles_ = raw.triangles;
-  if (options.centers_of_rotation) SkinCenters::compute(s, options.cor_sigma);
+  if (options.centers_of_rotation) {
+    s.centers_at_ = next;
+    SkinCenters::compute(s, options.cor_sigma);
+  }
   return s;
 }
 
@@ -141,7 +149,7 @@ void SkinCenters::compute(Skin& s, double sigma) {
   auto weights_of = [&](std::size_t v) {
     Sparse w;
     for (std::size_t k = 0; k < slots; ++k)
-      if (s.weight_[k * n + v] > 0) w.emplace_back(s.bone_[k * n + v], s.weight_[k * n + v]);
+      if (s.weight_[k][v] > 0) w.emplace_back(s.bone_[k][v], s.weight_[k][v]);
     std::sort(w.begin(), w.end());
     return w;
   };
@@ -185,7 +193,7 @@ void SkinCenters::compute(Skin& s, double sigma) {
       }
     return sum;
   };
-  s.cx_.resize(n), s.cy_.resize(n), s.cz_.resize(n);
+  const std::span<float> cx = s.coordinates_[s.centers_at_], cy = s.coordinates_[s.centers_at_ + 1], cz = s.coordinates_[s.centers_at_ + 2];
   std::vector<std::size_t> seen(triangles, static_cast<std::size_t>(-1));
   for (std::size_t v = 0; v < n; ++v) {
     Vec3<double> acc{0, 0, 0};
@@ -204,7 +212,7 @@ void SkinCenters::compute(Skin& s, double sigma) {
         }
       }
     const Vec3<double> c = total > 0 ? acc / total : s.position(v).cast<double>();
-    s.cx_[v] = static_cast<float>(c.x), s.cy_[v] = static_cast<float>(c.y), s.cz_[v] = static_cast<float>(c.z);
+    cx[v] = static_cast<float>(c.x), cy[v] = static_cast<float>(c.y), cz[v] = static_cast<float>(c.z);
   }
 }
 

@@ -143,14 +143,14 @@ constexpr std::size_t kPrefetchAhead = 128;
 
 /// What a kernel reads and writes, resolved once per range.
 struct Streams {
-  std::size_t n, slots;
+  std::size_t n, slots, stride;  ///< vertices, influence slots, values from one slot's array to the next's
   const std::uint32_t* bone;
   const float *weight, *mats, *dqs, *scales;
   const float *px, *py, *pz, *nx, *ny, *nz, *tx, *ty, *tz, *cx, *cy, *cz;
   float *opx, *opy, *opz, *onx, *ony, *onz, *otx, *oty, *otz;
   bool normals, tangents, scaled, centers;
   Streams(const Skin& skin, const SkinPalette& pal, const SkinnedVertices& out, SkinningMethod m)
-      : n(skin.vertex_count()), slots(skin.slots()), bone(skin.slot_bones().data()), weight(skin.slot_weights().data()),
+      : n(skin.vertex_count()), slots(skin.slots()), stride(skin.slot_stride()), bone(skin.slot_bones(0).data()), weight(skin.slot_weights(0).data()),
         mats(pal.matrices.data()), dqs(pal.dual_quaternions.data()), scales(pal.scale_shear.data()),
         px(skin.px().data()), py(skin.py().data()), pz(skin.pz().data()), nx(skin.nx().data()), ny(skin.ny().data()), nz(skin.nz().data()),
         tx(skin.tx().data()), ty(skin.ty().data()), tz(skin.tz().data()), cx(skin.cx().data()), cy(skin.cy().data()), cz(skin.cz().data()),
@@ -179,8 +179,8 @@ struct Streams {
     if (centers)
       for (const float* p : {cx, cy, cz}) read(p);
     for (std::size_t k = 0; k < slots; ++k) {
-      __builtin_prefetch(bone + k * n + v, 0, 3);
-      read(weight + k * n);
+      __builtin_prefetch(bone + k * stride + v, 0, 3);
+      read(weight + k * stride);
     }
   }
 };
@@ -203,7 +203,7 @@ struct ScalarLanes {
 template <SkinningMethod M, std::size_t K, class P>
 [[gnu::always_inline]] inline void skin_block(const Streams& s, std::size_t v) {
   using V = typename P::V;
-  const std::size_t n = s.n, slots = K > 0 ? K : s.slots;
+  const std::size_t slots = K > 0 ? K : s.slots;
   const V3<V> p{P::load(s.px + v), P::load(s.py + v), P::load(s.pz + v)};
   V mat[12];  // blended 3x4 matrix (LBS, CoR)
   V dq[8];    // blended dual quaternion (DQS; CoR uses its real part)
@@ -212,9 +212,9 @@ template <SkinningMethod M, std::size_t K, class P>
   auto blend_matrices = [&](const float* table, V* sum) __attribute__((always_inline)) {
     V m[12];
     auto load_slot = [&](std::size_t k) __attribute__((always_inline)) {
-      P::template rows<8>(table, 12, s.bone + k * n + v, 0, m);
-      P::template rows<4>(table, 12, s.bone + k * n + v, 8, m + 8);
-      return P::load(s.weight + k * n + v);
+      P::template rows<8>(table, 12, s.bone + k * s.stride + v, 0, m);
+      P::template rows<4>(table, 12, s.bone + k * s.stride + v, 8, m + 8);
+      return P::load(s.weight + k * s.stride + v);
     };
     const V w0 = load_slot(0);
     for (int c = 0; c < 12; ++c) sum[c] = w0 * m[c];
@@ -231,9 +231,9 @@ template <SkinningMethod M, std::size_t K, class P>
     for (std::size_t c = 0; c < parts; ++c) dq[c] = w0 * r0[c];
     for (std::size_t k = 1; k < slots; ++k) {
       V q[parts];
-      P::template rows<parts>(s.dqs, 8, s.bone + k * n + v, 0, q);
+      P::template rows<parts>(s.dqs, 8, s.bone + k * s.stride + v, 0, q);
       const V d = q[0] * r0[0] + q[1] * r0[1] + q[2] * r0[2] + q[3] * r0[3];
-      const V w = copysign_of(P::load(s.weight + k * n + v), d);  // antipodality: the pivot's hemisphere
+      const V w = copysign_of(P::load(s.weight + k * s.stride + v), d);  // antipodality: the pivot's hemisphere
       for (std::size_t c = 0; c < parts; ++c) dq[c] = dq[c] + w * q[c];
     }
   }

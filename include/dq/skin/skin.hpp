@@ -20,6 +20,7 @@
 
 #include "dq/core/dual_quaternion.hpp"
 #include "dq/core/matrix.hpp"
+#include "dq/util/component_arrays.hpp"
 #include "dq/util/expected.hpp"
 
 namespace dq {
@@ -74,38 +75,41 @@ class Skin {
   std::size_t bone_count() const noexcept { return bones_.size(); }
   /// Influence slots per vertex (the largest count in the file; shorter vertices are padded with weight 0).
   std::size_t slots() const noexcept { return slots_; }
-  bool has_normals() const noexcept { return !nx_.empty(); }
-  bool has_tangents() const noexcept { return !tx_.empty(); }
-  bool has_centers() const noexcept { return !cx_.empty(); }
+  bool has_normals() const noexcept { return normals_at_ != 0; }
+  bool has_tangents() const noexcept { return tangents_at_ != 0; }
+  bool has_centers() const noexcept { return centers_at_ != 0; }
   /// Whether any bone's bind has scale or shear (then DQS and CoR run the linear phase first).
   bool has_scale_shear() const noexcept { return has_scale_shear_; }
   std::size_t renormalized_vertices() const noexcept { return renormalized_; }
 
   std::span<const SkinBone> bones() const noexcept { return bones_; }
   std::span<const std::uint32_t> triangles() const noexcept { return triangles_; }
-  /// Component arrays of the bind-space vertices (x, y, z).
-  std::span<const float> px() const noexcept { return px_; }
-  std::span<const float> py() const noexcept { return py_; }
-  std::span<const float> pz() const noexcept { return pz_; }
-  std::span<const float> nx() const noexcept { return nx_; }
-  std::span<const float> ny() const noexcept { return ny_; }
-  std::span<const float> nz() const noexcept { return nz_; }
-  std::span<const float> tx() const noexcept { return tx_; }
-  std::span<const float> ty() const noexcept { return ty_; }
-  std::span<const float> tz() const noexcept { return tz_; }
+  /// Component arrays of the bind-space vertices (x, y, z); empty where the skin has none.
+  std::span<const float> px() const noexcept { return coordinates_[0]; }
+  std::span<const float> py() const noexcept { return coordinates_[1]; }
+  std::span<const float> pz() const noexcept { return coordinates_[2]; }
+  std::span<const float> nx() const noexcept { return coordinate(normals_at_, 0); }
+  std::span<const float> ny() const noexcept { return coordinate(normals_at_, 1); }
+  std::span<const float> nz() const noexcept { return coordinate(normals_at_, 2); }
+  std::span<const float> tx() const noexcept { return coordinate(tangents_at_, 0); }
+  std::span<const float> ty() const noexcept { return coordinate(tangents_at_, 1); }
+  std::span<const float> tz() const noexcept { return coordinate(tangents_at_, 2); }
   /// The centre of rotation of each vertex (bind space; Le and Hodgins 2016, eq. 4): the average
   /// of the triangle centroids weighted by area and by the similarity of the triangle's weights
   /// (the mean of its corners') to the vertex's. A vertex with no similar triangle (one
   /// influence, or no triangle sharing two of its bones) has its own position as centre, which
   /// makes CoR equal LBS there (and exact for one influence).
-  std::span<const float> cx() const noexcept { return cx_; }
-  std::span<const float> cy() const noexcept { return cy_; }
-  std::span<const float> cz() const noexcept { return cz_; }
-  /// Slot k of vertex v is at k * vertex_count() + v.
-  std::span<const std::uint32_t> slot_bones() const noexcept { return bone_; }
-  std::span<const float> slot_weights() const noexcept { return weight_; }
-  Vec3<float> position(std::size_t v) const { return {px_[v], py_[v], pz_[v]}; }
-  Vec3<float> center(std::size_t v) const { return {cx_[v], cy_[v], cz_[v]}; }
+  std::span<const float> cx() const noexcept { return coordinate(centers_at_, 0); }
+  std::span<const float> cy() const noexcept { return coordinate(centers_at_, 1); }
+  std::span<const float> cz() const noexcept { return coordinate(centers_at_, 2); }
+  /// The bone and the weight of influence slot k (k < slots()) of every vertex.
+  std::span<const std::uint32_t> slot_bones(std::size_t k) const noexcept { return bone_[k]; }
+  std::span<const float> slot_weights(std::size_t k) const noexcept { return weight_[k]; }
+  /// Values from one slot's array to the next's, the same in both tables (for kernels that step
+  /// from slot to slot).
+  std::size_t slot_stride() const noexcept { return bone_.distance(); }
+  Vec3<float> position(std::size_t v) const { return {px()[v], py()[v], pz()[v]}; }
+  Vec3<float> center(std::size_t v) const { return {cx()[v], cy()[v], cz()[v]}; }
 
  private:
   friend Expected<Skin> build_skin(const RawSkin& raw, const SkinOptions& options);
@@ -114,9 +118,17 @@ class Skin {
   bool has_scale_shear_ = false;
   std::vector<SkinBone> bones_;
   std::vector<std::uint32_t> triangles_;
-  std::vector<float> px_, py_, pz_, nx_, ny_, nz_, tx_, ty_, tz_, cx_, cy_, cz_;
-  std::vector<std::uint32_t> bone_;
-  std::vector<float> weight_;
+  std::span<const float> coordinate(std::size_t at, std::size_t c) const noexcept {
+    return at == 0 ? std::span<const float>{} : coordinates_[at + c];
+  }
+  // Every array a kernel streams through starts a cache line, and no two of them share their
+  // cache sets (ComponentArrays, docs/skinning.md): the vertices' coordinates in one allocation
+  // (positions, then normals, tangents and centres where present: their first arrays' indices,
+  // 0 for none), the slots' bones and weights in one each.
+  ComponentArrays<float, std::dynamic_extent> coordinates_;
+  std::size_t normals_at_ = 0, tangents_at_ = 0, centers_at_ = 0;
+  ComponentArrays<std::uint32_t, std::dynamic_extent> bone_;
+  ComponentArrays<float, std::dynamic_extent> weight_;
 };
 
 /// Validates and builds. Errors name the vertex or bone and say what is wrong: sizes that do
