@@ -143,14 +143,14 @@ constexpr std::size_t kPrefetchAhead = 128;
 
 /// What a kernel reads and writes, resolved once per range.
 struct Streams {
-  std::size_t n, slots, stride;  ///< vertices, influence slots, values from one slot's array to the next's
+  std::size_t slots, stride;  ///< influence slots, values from one slot's array to the next's
   const std::uint32_t* bone;
   const float *weight, *mats, *dqs, *scales;
   const float *px, *py, *pz, *nx, *ny, *nz, *tx, *ty, *tz, *cx, *cy, *cz;
   float *opx, *opy, *opz, *onx, *ony, *onz, *otx, *oty, *otz;
   bool normals, tangents, scaled, centers;
   Streams(const Skin& skin, const SkinPalette& pal, const SkinnedVertices& out, SkinningMethod m)
-      : n(skin.vertex_count()), slots(skin.slots()), stride(skin.slot_stride()), bone(skin.slot_bones(0).data()), weight(skin.slot_weights(0).data()),
+      : slots(skin.slots()), stride(skin.slot_stride()), bone(skin.slot_bones(0).data()), weight(skin.slot_weights(0).data()),
         mats(pal.matrices.data()), dqs(pal.dual_quaternions.data()), scales(pal.scale_shear.data()),
         px(skin.px().data()), py(skin.py().data()), pz(skin.pz().data()), nx(skin.nx().data()), ny(skin.ny().data()), nz(skin.nz().data()),
         tx(skin.tx().data()), ty(skin.ty().data()), tz(skin.tz().data()), cx(skin.cx().data()), cy(skin.cy().data()), cz(skin.cz().data()),

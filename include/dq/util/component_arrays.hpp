@@ -22,8 +22,9 @@ namespace dq {
 /// padding), so that no two of the first 64 arrays are a multiple of 4 KiB apart. Arrays a multiple
 /// of 4 KiB apart map to the same cache sets (and look alike to the prefetchers), and the streams of
 /// a kernel evict each other: the batch forward kinematics ran 1.3–1.55 × faster on padded, skewed
-/// arrays with no change to the kernel, and the skinning kernels 3–24 % faster on a skin stored so
-/// (docs/skinning.md). A copy allocates and copies; a moved-from object has size 0 and no arrays.
+/// arrays with no change to the kernel, and DQS skinning in the cache 1.06–3.2 × faster on a skin
+/// stored so (docs/skinning.md). A copy allocates and copies; a moved-from object has size 0 and no
+/// arrays.
 template <class T, std::size_t N>
 class ComponentArrays {
  public:
