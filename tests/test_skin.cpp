@@ -72,6 +72,8 @@ struct Output {
   Vec3<float> p(std::size_t v) const { return {px[v], py[v], pz[v]}; }
   Vec3<float> n(std::size_t v) const { return {nx[v], ny[v], nz[v]}; }
   Vec3<float> t(std::size_t v) const { return {tx[v], ty[v], tz[v]}; }
+  static constexpr std::vector<float> Output::*parts[] = {&Output::px, &Output::py, &Output::pz, &Output::nx, &Output::ny,
+                                                          &Output::nz, &Output::tx, &Output::ty, &Output::tz};
 };
 
 Output run(const Skin& skin, std::span<const DualQuaternion<double>> world, SkinningMethod method, unsigned threads = 1) {
@@ -421,14 +423,13 @@ TEST(SkinningTargets, EveryTargetIsTheScalarPathBitForBit) {
             const SkinnedVertices view{a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8]};
             ASSERT_TRUE(SkinningThreads(2).run({&skin, &palette, m, view, first, n - first - 2}).ok());
             Output aligned(n);
-            std::vector<float>* parts[] = {&aligned.px, &aligned.py, &aligned.pz, &aligned.nx, &aligned.ny, &aligned.nz, &aligned.tx, &aligned.ty, &aligned.tz};
-            for (std::size_t k = 0; k < 9; ++k) std::copy(a[k].begin(), a[k].end(), parts[k]->begin());
+            for (std::size_t k = 0; k < std::size(Output::parts); ++k) std::copy(a[k].begin(), a[k].end(), (aligned.*Output::parts[k]).begin());
             results.push_back(std::move(aligned));
           });
           // results: each target's run, then its run into ComponentArrays; [0] is the scalar path's.
           for (std::size_t t = 1; t < results.size(); ++t) {
             SCOPED_TRACE(std::string(simd::to_string(simd::Target(t / 2))) + (t % 2 ? ", into ComponentArrays on two threads" : ""));
-            for (auto part : {&Output::px, &Output::py, &Output::pz, &Output::nx, &Output::ny, &Output::nz, &Output::tx, &Output::ty, &Output::tz})
+            for (auto part : Output::parts)
               for (std::size_t v = 0; v < n; ++v)
                 ASSERT_EQ(std::memcmp(&(results[t].*part)[v], &(results[0].*part)[v], sizeof(float)), 0)
                     << "vertex " << v << ": " << (results[t].*part)[v] << " against the scalar " << (results[0].*part)[v];
