@@ -1,7 +1,8 @@
 // Skinning at the memory limit (issue 12): dqkit's LBS, DQS and CoR batch jobs (the kernel of the
 // instruction set chosen at run time) on one and two threads, positions and normals, against the
 // plain per-vertex GLM code users write (glm::mat4 LBS, glm::dualquat DQS, glm::quat CoR; arrays of
-// structures) in the same binary, and STREAM's triad measured in the same run as the roof.
+// structures) in the same binary, and STREAM's triad measured in the same run as the roof; and
+// DQS's bytes moved with no arithmetic (skin_streams), the most the memory allows its streams.
 //
 // The skin: at least 2^20 vertices and at least four times the last-level cache in bytes (read
 // from the CPU), 4 influences each, 64 bones with random rigid binds and poses. Every GLM variant
