@@ -176,70 +176,59 @@ void dqkit_skinning(benchmark::State& state, SkinningMethod method) {
 
 /// DQS's traffic without its arithmetic: per vertex the 14 values it reads (position, normal, four
 /// slot bones and weights) in and 6 out, 80 bytes, prefetched as the kernels prefetch (every stream,
-/// once per cache line, 128 vertices ahead: src/skin/skinning.cpp). The values are combined by
-/// exclusive or, one integer operation each. What share of the triad this reaches is the most a
-/// kernel with the same streams can reach (docs/skinning.md, "The memory side").
-/// `separate`: the skin's own arrays and an Output, the twenty streams the kernels read and write.
-/// `interleaved`: the same values in blocks of 16 vertices (AoSoA: each block's 14 × 16 values in,
-/// then 6 × 16 out), one stream in and one out.
-enum class Streams { separate, interleaved };
+/// once per cache line, kPrefetchAhead = 128 vertices ahead: src/skin/skinning.cpp). The values are
+/// combined by exclusive or, one integer operation each. What share of the triad this reaches is
+/// the most a kernel with the same streams and the same prefetching can reach (docs/skinning.md,
+/// "The memory side").
+/// `separate`: the skin's own arrays and six output arrays, the twenty streams the kernels read and
+/// write. `interleaved`: the skin's values copied into blocks of 16 vertices (AoSoA: each block's
+/// 14 × 16 values in, then 6 × 16 out), one stream in and one out.
+enum class StreamLayout { separate, interleaved };
 
 using Lanes = std::uint32_t __attribute__((vector_size(16)));
-[[gnu::always_inline]] inline Lanes load_lanes(const std::uint32_t* p) {
-  Lanes x;
-  std::memcpy(&x, p, sizeof x);
-  return x;
-}
+constexpr std::size_t kStreamsIn = 14, kStreamsOut = 6, kBlock = 16;
 
-/// One block of 16 vertices: in[c] and out[o] point at the block's 16 values of each stream.
-[[gnu::always_inline]] inline void combine_block(const std::uint32_t* const (&in)[14], std::uint32_t* const (&out)[6]) {
-  for (int q = 0; q < 16; q += 4) {
-    Lanes o[6] = {};
-    for (int c = 0; c < 14; ++c) o[c % 6] ^= load_lanes(in[c] + q);
-    for (int k = 0; k < 6; ++k) std::memcpy(out[k] + q, &o[k], sizeof o[k]);
-  }
-}
-
-void skin_streams(benchmark::State& state, Streams layout) {
-  constexpr std::size_t ahead = 128, block = 16;
+template <StreamLayout layout>
+void skin_streams(benchmark::State& state) {
+  constexpr std::size_t ahead = 128;  // the kernels' kPrefetchAhead
+  constexpr bool interleaved = layout == StreamLayout::interleaved;
   Fixture& f = fixture();
   const std::size_t n = f.n;
-  ComponentArrays<std::uint32_t, 6> out(n);
-  ComponentArrays<std::uint32_t, 1> blocks_in(layout == Streams::interleaved ? 14 * n : 0),
-      blocks_out(layout == Streams::interleaved ? 6 * n : 0);
-  const std::uint32_t* in[14];
+  // The skin's input streams as 32-bit values (the floats by their bits).
+  const std::uint32_t* skin_in[kStreamsIn];
   auto bits = [](std::span<const float> x) { return reinterpret_cast<const std::uint32_t*>(x.data()); };
   const std::span<const float> coordinates[] = {f.skin.px(), f.skin.py(), f.skin.pz(), f.skin.nx(), f.skin.ny(), f.skin.nz()};
-  for (int c = 0; c < 6; ++c) in[c] = bits(coordinates[c]);
-  for (std::size_t k = 0; k < kInfluences; ++k) in[6 + k] = f.skin.slot_bones(k).data(), in[10 + k] = bits(f.skin.slot_weights(k));
+  for (std::size_t c = 0; c < 6; ++c) skin_in[c] = bits(coordinates[c]);
+  for (std::size_t k = 0; k < kInfluences; ++k) skin_in[6 + k] = f.skin.slot_bones(k).data(), skin_in[10 + k] = bits(f.skin.slot_weights(k));
+  ComponentArrays<std::uint32_t, kStreamsOut> out(interleaved ? 0 : n);
+  ComponentArrays<std::uint32_t, 1> blocks_in(interleaved ? kStreamsIn * n : 0), blocks_out(interleaved ? kStreamsOut * n : 0);
+  // Stream c's (or k's) values of the 16 vertices from v (a multiple of 16).
+  auto in_at = [&](std::size_t c, std::size_t v) {
+    return interleaved ? blocks_in[0].data() + kStreamsIn * v + kBlock * c : skin_in[c] + v;
+  };
+  auto out_at = [&](std::size_t k, std::size_t v) {
+    return interleaved ? blocks_out[0].data() + kStreamsOut * v + kBlock * k : out[k].data() + v;
+  };
+  if (interleaved)
+    for (std::size_t v = 0; v < n; v += kBlock)
+      for (std::size_t c = 0; c < kStreamsIn; ++c) std::copy_n(skin_in[c] + v, kBlock, blocks_in[0].data() + kStreamsIn * v + kBlock * c);
   for (auto _ : state) {
-    for (std::size_t v = 0; v < n; v += block) {
-      const bool fetch = v + ahead < n;
-      if (layout == Streams::separate) {
-        if (fetch) {
-          for (const std::uint32_t* p : in) __builtin_prefetch(p + v + ahead, 0, 3);
-          for (int k = 0; k < 6; ++k) __builtin_prefetch(out[k].data() + v + ahead, 1, 3);
+    for (std::size_t v = 0; v < n; v += kBlock) {
+      if (v + ahead < n) {
+        for (std::size_t c = 0; c < kStreamsIn; ++c) __builtin_prefetch(in_at(c, v + ahead), 0, 3);
+        for (std::size_t k = 0; k < kStreamsOut; ++k) __builtin_prefetch(out_at(k, v + ahead), 1, 3);
+      }
+      for (std::size_t q = 0; q < kBlock; q += 4) {
+        Lanes o[kStreamsOut] = {};
+        for (std::size_t c = 0; c < kStreamsIn; ++c) {
+          Lanes x;
+          std::memcpy(&x, in_at(c, v) + q, sizeof x);
+          o[c % kStreamsOut] ^= x;
         }
-        const std::uint32_t* const at_in[14] = {in[0] + v, in[1] + v, in[2] + v, in[3] + v, in[4] + v, in[5] + v, in[6] + v,
-                                                in[7] + v, in[8] + v, in[9] + v, in[10] + v, in[11] + v, in[12] + v, in[13] + v};
-        std::uint32_t* const at_out[6] = {out[0].data() + v, out[1].data() + v, out[2].data() + v,
-                                          out[3].data() + v, out[4].data() + v, out[5].data() + v};
-        combine_block(at_in, at_out);
-      } else {
-        const std::uint32_t* b = blocks_in[0].data() + 14 * v;
-        std::uint32_t* o = blocks_out[0].data() + 6 * v;
-        if (fetch) {
-          for (std::size_t c = 0; c < 14; ++c) __builtin_prefetch(b + 14 * ahead + block * c, 0, 3);
-          for (std::size_t c = 0; c < 6; ++c) __builtin_prefetch(o + 6 * ahead + block * c, 1, 3);
-        }
-        const std::uint32_t* const at_in[14] = {b, b + 16, b + 32, b + 48, b + 64, b + 80, b + 96,
-                                                b + 112, b + 128, b + 144, b + 160, b + 176, b + 192, b + 208};
-        std::uint32_t* const at_out[6] = {o, o + 16, o + 32, o + 48, o + 64, o + 80};
-        combine_block(at_in, at_out);
+        for (std::size_t k = 0; k < kStreamsOut; ++k) std::memcpy(out_at(k, v) + q, &o[k], sizeof o[k]);
       }
     }
-    benchmark::DoNotOptimize(out[0].data());
-    benchmark::DoNotOptimize(blocks_out[0].data());
+    benchmark::DoNotOptimize(interleaved ? blocks_out[0].data() : out[0].data());
     benchmark::ClobberMemory();
   }
   report(state, SkinningMethod::dqs, 1);
@@ -350,8 +339,8 @@ BENCHMARK(dq::bench::Triad)->Name("Triad")->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK_CAPTURE(dqkit_skinning, lbs, SkinningMethod::lbs)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK_CAPTURE(dqkit_skinning, dqs, SkinningMethod::dqs)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK_CAPTURE(dqkit_skinning, cor, SkinningMethod::cor)->Arg(1)->Arg(2)->UseRealTime();
-BENCHMARK_CAPTURE(skin_streams, separate, Streams::separate)->UseRealTime();
-BENCHMARK_CAPTURE(skin_streams, interleaved, Streams::interleaved)->UseRealTime();
+BENCHMARK(skin_streams<StreamLayout::separate>)->Name("skin_streams/separate")->UseRealTime();
+BENCHMARK(skin_streams<StreamLayout::interleaved>)->Name("skin_streams/interleaved")->UseRealTime();
 BENCHMARK(glm_lbs)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK(glm_dqs)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK(glm_cor)->Arg(1)->Arg(2)->UseRealTime();

@@ -103,8 +103,10 @@ def skinning_tables(add, s, context):
         "dqkit's result outside the timing; bytes per vertex: 80, 92 for CoR (its centre); the triad is measured "
         "by bench_skin itself before the cases (the median of five passes after an untimed one), so it can differ "
         "from the Triad cases of the limits table above, which are timed separately (docs/skinning.md, "
-        "\"The two-thread triad\"). The last two rows move DQS's bytes with no arithmetic, prefetched as the "
-        "kernels prefetch: what the memory allows a kernel with those streams (docs/skinning.md, \"The memory side\").")
+        "\"The two-thread triad\")." + (
+            " The one-thread table's last two rows move DQS's bytes with no arithmetic, prefetched as the kernels "
+            "prefetch: what the memory allows a kernel with those streams (docs/skinning.md, \"The memory side\")."
+            if any(f"{name}/real_time" in s for _, name in STREAMS) else ""))
     for threads in (1, 2):
         def case(name):
             return s[f"{name}/{threads}/real_time"]
@@ -125,11 +127,12 @@ def skinning_tables(add, s, context):
                 row += " | | | | |"
             add(row)
         # The memory side alone (one thread): DQS's bytes with no arithmetic, the most its streams allow.
-        for label, name in STREAMS if threads == 1 else ():
-            if f"{name}/real_time" in s:
-                r = s[f"{name}/real_time"]
-                add(f"| {label} | {ns(s, f'{name}/real_time') / 1e6:.1f} ms | {fmt(r['vertices_per_s'])} | "
-                    f"{fmt(r['bytes_per_second'], 'B/s')} | {r['bytes_per_second'] / triad:.2f} | | | |")
+        if threads == 1:
+            for label, name in STREAMS:
+                if f"{name}/real_time" in s:
+                    r = s[f"{name}/real_time"]
+                    add(f"| {label} | {ns(s, f'{name}/real_time') / 1e6:.1f} ms | {fmt(r['vertices_per_s'])} | "
+                        f"{fmt(r['bytes_per_second'], 'B/s')} | {r['bytes_per_second'] / triad:.2f} | | | |")
 
 
 IK = (("ArmDualQuaternionLM", "dqkit LM, dual quaternions, 7-DOF arm"), ("ArmMatrixLM", "dqkit LM, 4x4 matrices, arm"),

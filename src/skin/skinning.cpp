@@ -138,7 +138,8 @@ template <class V>
 /// How far ahead of the vertex being skinned the vector kernels prefetch, in vertices: 512 bytes per
 /// stream, about 0.4 µs of work at 300 M vertices/s, several memory latencies. Farther is slower:
 /// twenty streams 1024 vertices ahead hold 80 KB in flight, more than an L1 data cache, and DQS from
-/// DRAM ran slower in eight of nine paired runs (docs/skinning.md).
+/// DRAM ran slower in eight of nine paired runs (docs/skinning.md). bench_skin's skin_streams cases
+/// prefetch the same distance.
 constexpr std::size_t kPrefetchAhead = 128;
 
 /// What a kernel reads and writes, resolved once per range.
