@@ -198,20 +198,22 @@ void skin_streams(benchmark::State& state) {
   const std::uint32_t* skin_in[kStreamsIn];
   auto bits = [](std::span<const float> x) { return reinterpret_cast<const std::uint32_t*>(x.data()); };
   const std::span<const float> coordinates[] = {f.skin.px(), f.skin.py(), f.skin.pz(), f.skin.nx(), f.skin.ny(), f.skin.nz()};
-  for (std::size_t c = 0; c < 6; ++c) skin_in[c] = bits(coordinates[c]);
+  for (std::size_t c = 0; c < std::size(coordinates); ++c) skin_in[c] = bits(coordinates[c]);
   for (std::size_t k = 0; k < kInfluences; ++k) skin_in[6 + k] = f.skin.slot_bones(k).data(), skin_in[10 + k] = bits(f.skin.slot_weights(k));
   ComponentArrays<std::uint32_t, kStreamsOut> out(interleaved ? 0 : n);
   ComponentArrays<std::uint32_t, 1> blocks_in(interleaved ? kStreamsIn * n : 0), blocks_out(interleaved ? kStreamsOut * n : 0);
-  // Stream c's (or k's) values of the 16 vertices from v (a multiple of 16).
-  auto in_at = [&](std::size_t c, std::size_t v) {
-    return interleaved ? blocks_in[0].data() + kStreamsIn * v + kBlock * c : skin_in[c] + v;
+  // Stream c's values of the 16 vertices from v (a multiple of 16): in a block of `streams` streams,
+  // or in the stream's own array.
+  auto at_block = [](std::uint32_t* blocks, std::size_t streams, std::size_t c, std::size_t v) { return blocks + streams * v + kBlock * c; };
+  auto in_at = [&](std::size_t c, std::size_t v) -> const std::uint32_t* {
+    return interleaved ? at_block(blocks_in[0].data(), kStreamsIn, c, v) : skin_in[c] + v;
   };
   auto out_at = [&](std::size_t k, std::size_t v) {
-    return interleaved ? blocks_out[0].data() + kStreamsOut * v + kBlock * k : out[k].data() + v;
+    return interleaved ? at_block(blocks_out[0].data(), kStreamsOut, k, v) : out[k].data() + v;
   };
   if (interleaved)
     for (std::size_t v = 0; v < n; v += kBlock)
-      for (std::size_t c = 0; c < kStreamsIn; ++c) std::copy_n(skin_in[c] + v, kBlock, blocks_in[0].data() + kStreamsIn * v + kBlock * c);
+      for (std::size_t c = 0; c < kStreamsIn; ++c) std::copy_n(skin_in[c] + v, kBlock, at_block(blocks_in[0].data(), kStreamsIn, c, v));
   for (auto _ : state) {
     for (std::size_t v = 0; v < n; v += kBlock) {
       if (v + ahead < n) {

@@ -94,6 +94,8 @@ Expected<Skin> build_skin(const RawSkin& raw, const SkinOptions& options) {
     slots = std::max<std::size_t>(slots, raw.influence_offsets[v + 1] - raw.influence_offsets[v]);
   }
   s.slots_ = slots;
+  // Values of the same size, so that both tables' arrays lie equally far apart (Skin::slot_stride).
+  static_assert(sizeof(std::uint32_t) == sizeof(float));
   s.bone_ = ComponentArrays<std::uint32_t, std::dynamic_extent>(n, slots);
   s.weight_ = ComponentArrays<float, std::dynamic_extent>(n, slots);
   for (std::size_t v = 0; v < n; ++v) {
