@@ -5,7 +5,8 @@
 // joints (dqkit's run-time dispatched kernel, the scalar job, Eigen Isometry3f and Matrix4f pose by
 // pose; one and two threads), one skeleton at a time, transforming points, and composing arrays hot in cache and
 // in DRAM, against Eigen and GLM in the same binary; inverse, directions, normalize, DLB and
-// sclerp over 4096 elements hot in cache against GLM, Eigen and dqkit's scalar sclerp per element.
+// sclerp over 4096 elements hot in cache against GLM, Eigen and dqkit's scalar sclerp per element;
+// and each of these kernels on every instruction set the CPU has, the target forced (OnTarget).
 // Every variant's result is checked once,
 // outside the timing, against dqkit's scalar types. Counters: bytes_per_second and, for the
 // memory-bound cases, `roofline` = achieved bytes/s ÷ the measured copy bandwidth.
@@ -425,6 +426,8 @@ void ComposeEigen(benchmark::State& state) {
 // Hot in cache (4096 elements, as the compose and slerp cases), each dispatched kernel against the
 // per-element code of a peer on the same data, whose result is checked once outside the timing.
 
+constexpr float kBlendT = 0.3f;
+
 /// 4096 pairs of unit dual quaternions (a, b) in SoA and AoS, directions, the a's scaled by 0.5–2
 /// (for normalize), and outputs.
 struct KernelArrays {
@@ -462,13 +465,26 @@ struct KernelArrays {
   DualQuaternion<float> result(std::size_t i) const {
     return {out[0][i], out[1][i], out[2][i], out[3][i], out[4][i], out[5][i], out[6][i], out[7][i]};
   }
+  // The dispatched kernels on these arrays: what the *Dispatched cases time, what each peer is
+  // checked against, and what OnTarget runs on each instruction set.
+  void inverse() { simd::inverse(rows(a), out_rows(), n); }
+  void directions() { simd::transform_directions(rows(a), {v[0].data(), v[1].data(), v[2].data()}, {out[0].data(), out[1].data(), out[2].data()}, n); }
+  void to_matrices() { simd::to_matrices(rows(a), matrices(), n); }
+  void normalize() { simd::normalize(rows(scaled), out_rows(), n); }
+  void dlb() { simd::dlb(rows(a), rows(b), kBlendT, out_rows(), n); }
+  void sclerp() { simd::sclerp(rows(a), rows(b), kBlendT, out_rows(), n); }
+  // Only in OnTarget (their own cases run on the Arrays and SlerpArrays above).
+  void compose() { simd::compose(rows(a), rows(b), out_rows(), n); }
+  void points() { simd::transform_points(rows(a), {v[0].data(), v[1].data(), v[2].data()}, {out[0].data(), out[1].data(), out[2].data()}, n); }
+  void slerp() {
+    simd::slerp({a[0].data(), a[1].data(), a[2].data(), a[3].data()}, {b[0].data(), b[1].data(), b[2].data(), b[3].data()}, kBlendT,
+                {out[0].data(), out[1].data(), out[2].data(), out[3].data()}, n);
+  }
 };
 KernelArrays& kernel_arrays() {
   static KernelArrays k;
   return k;
 }
-constexpr float kBlendT = 0.3f;
-
 /// Runs a dispatched kernel on the arrays: the timing loop and the rate counter.
 template <class Kernel>
 void run_dispatched(benchmark::State& state, Kernel kernel) {
@@ -508,22 +524,19 @@ std::vector<glm::dualquat> to_glm(const std::vector<DualQuaternion<float>>& q) {
 
 void InverseDispatched(benchmark::State& state) {
   KernelArrays& k = kernel_arrays();
-  run_dispatched(state, [&] { simd::inverse(KernelArrays::rows(k.a), k.out_rows(), KernelArrays::n); });
+  run_dispatched(state, [&] { k.inverse(); });
 }
 void InverseGlmDualquat(benchmark::State& state) {
   KernelArrays& k = kernel_arrays();
   const std::vector<glm::dualquat> a = to_glm(k.dq_a);
   run_peer<glm::dualquat>(
-      state, [&](std::size_t i) { return glm::inverse(a[i]); }, [&] { simd::inverse(KernelArrays::rows(k.a), k.out_rows(), KernelArrays::n); },
+      state, [&](std::size_t i) { return glm::inverse(a[i]); }, [&] { k.inverse(); },
       [&](std::size_t i, const glm::dualquat& g) { return approx_equal(glm_interop::from_glm(g), k.result(i), 1e-5f); });
 }
 
 void TransformDirectionsDispatched(benchmark::State& state) {
   KernelArrays& k = kernel_arrays();
-  run_dispatched(state, [&] {
-    simd::transform_directions(KernelArrays::rows(k.a), {k.v[0].data(), k.v[1].data(), k.v[2].data()}, {k.out[0].data(), k.out[1].data(), k.out[2].data()},
-                               KernelArrays::n);
-  });
+  run_dispatched(state, [&] { k.directions(); });
 }
 /// The peers' directions against the kernel's (in out[0..2]).
 template <class V>
@@ -539,10 +552,7 @@ void TransformDirectionsGlmMat4(benchmark::State& state) {
   for (std::size_t i = 0; i < KernelArrays::n; ++i) m.push_back(glm_interop::to_glm(to_mat4(k.dq_a[i]))), v.emplace_back(k.v[0][i], k.v[1][i], k.v[2][i]);
   run_peer<glm::vec3>(
       state, [&](std::size_t i) { return glm::vec3(m[i] * glm::vec4(v[i], 0.0f)); },
-      [&] {
-        simd::transform_directions(KernelArrays::rows(k.a), {k.v[0].data(), k.v[1].data(), k.v[2].data()}, {k.out[0].data(), k.out[1].data(), k.out[2].data()},
-                                   KernelArrays::n);
-      },
+      [&] { k.directions(); },
       same_direction<glm::vec3>(k));
 }
 void TransformDirectionsEigenIsometry3f(benchmark::State& state) {
@@ -552,23 +562,20 @@ void TransformDirectionsEigenIsometry3f(benchmark::State& state) {
   for (std::size_t i = 0; i < KernelArrays::n; ++i) m.push_back(eigen::to_isometry(k.dq_a[i])), v.emplace_back(k.v[0][i], k.v[1][i], k.v[2][i]);
   run_peer<Eigen::Vector3f>(
       state, [&](std::size_t i) -> Eigen::Vector3f { return m[i].linear() * v[i]; },
-      [&] {
-        simd::transform_directions(KernelArrays::rows(k.a), {k.v[0].data(), k.v[1].data(), k.v[2].data()}, {k.out[0].data(), k.out[1].data(), k.out[2].data()},
-                                   KernelArrays::n);
-      },
+      [&] { k.directions(); },
       same_direction<Eigen::Vector3f>(k));
 }
 
 /// Dual quaternions to 3x4 matrices: the kernel (twelve arrays) against GLM's mat3x4_cast.
 void ToMatricesDispatched(benchmark::State& state) {
   KernelArrays& k = kernel_arrays();
-  run_dispatched(state, [&] { simd::to_matrices(KernelArrays::rows(k.a), k.matrices(), KernelArrays::n); });
+  run_dispatched(state, [&] { k.to_matrices(); });
 }
 void ToMatricesGlmDualquat(benchmark::State& state) {
   KernelArrays& k = kernel_arrays();
   const std::vector<glm::dualquat> q = to_glm(k.dq_a);
   run_peer<glm::mat3x4>(
-      state, [&](std::size_t i) { return glm::mat3x4_cast(q[i]); }, [&] { simd::to_matrices(KernelArrays::rows(k.a), k.matrices(), KernelArrays::n); },
+      state, [&](std::size_t i) { return glm::mat3x4_cast(q[i]); }, [&] { k.to_matrices(); },
       [&](std::size_t i, const glm::mat3x4& g) {  // GLM's mat3x4 holds the rows of [R | t] as its columns
         for (int r = 0; r < 3; ++r)
           for (int c = 0; c < 4; ++c)
@@ -579,19 +586,19 @@ void ToMatricesGlmDualquat(benchmark::State& state) {
 
 void NormalizeDispatched(benchmark::State& state) {
   KernelArrays& k = kernel_arrays();
-  run_dispatched(state, [&] { simd::normalize(KernelArrays::rows(k.scaled), k.out_rows(), KernelArrays::n); });
+  run_dispatched(state, [&] { k.normalize(); });
 }
 void NormalizeGlmDualquat(benchmark::State& state) {
   KernelArrays& k = kernel_arrays();
   const std::vector<glm::dualquat> q = to_glm(k.dq_scaled);
   run_peer<glm::dualquat>(
-      state, [&](std::size_t i) { return glm::normalize(q[i]); }, [&] { simd::normalize(KernelArrays::rows(k.scaled), k.out_rows(), KernelArrays::n); },
+      state, [&](std::size_t i) { return glm::normalize(q[i]); }, [&] { k.normalize(); },
       [&](std::size_t i, const glm::dualquat& g) { return approx_equal(glm_interop::from_glm(g), k.result(i), 1e-5f); });
 }
 
 void DlbDispatched(benchmark::State& state) {
   KernelArrays& k = kernel_arrays();
-  run_dispatched(state, [&] { simd::dlb(KernelArrays::rows(k.a), KernelArrays::rows(k.b), kBlendT, k.out_rows(), KernelArrays::n); });
+  run_dispatched(state, [&] { k.dlb(); });
 }
 /// What GLM users write for DLB: glm::lerp (the sign-aligned blend, unnormalized) then
 /// glm::normalize (a division by |q_r|, which leaves q_r · q_d ≠ 0: checked on the transform).
@@ -600,21 +607,41 @@ void DlbGlmDualquat(benchmark::State& state) {
   const std::vector<glm::dualquat> a = to_glm(k.dq_a), b = to_glm(k.dq_b);
   run_peer<glm::dualquat>(
       state, [&](std::size_t i) { return glm::normalize(glm::lerp(a[i], b[i], kBlendT)); },
-      [&] { simd::dlb(KernelArrays::rows(k.a), KernelArrays::rows(k.b), kBlendT, k.out_rows(), KernelArrays::n); },
+      [&] { k.dlb(); },
       [&](std::size_t i, const glm::dualquat& g) { return same_transform(glm_interop::from_glm(g), k.result(i)); });
 }
 
 void SclerpDispatched(benchmark::State& state) {
   KernelArrays& k = kernel_arrays();
-  run_dispatched(state, [&] { simd::sclerp(KernelArrays::rows(k.a), KernelArrays::rows(k.b), kBlendT, k.out_rows(), KernelArrays::n); });
+  run_dispatched(state, [&] { k.sclerp(); });
 }
 /// Neither peer has sclerp: dqkit's own scalar dq::sclerp, element by element (AoS).
 void SclerpScalar(benchmark::State& state) {
   KernelArrays& k = kernel_arrays();
   run_peer<DualQuaternion<float>>(
       state, [&](std::size_t i) { return sclerp(k.dq_a[i], k.dq_b[i], kBlendT); },
-      [&] { simd::sclerp(KernelArrays::rows(k.a), KernelArrays::rows(k.b), kBlendT, k.out_rows(), KernelArrays::n); },
+      [&] { k.sclerp(); },
       [&](std::size_t i, const DualQuaternion<float>& q) { return approx_equal(q, k.result(i), 1e-5f * (1 + norm(q.translation()))); });
+}
+
+/// A dispatched kernel on the hot arrays with the instruction set forced (simd::use_target): what
+/// each target brings, measured in one run. Registered in main for every target this CPU has.
+void OnTarget(benchmark::State& state, void (KernelArrays::*kernel)(), simd::Target target) {
+  KernelArrays& k = kernel_arrays();
+  simd::use_target(target);
+  run_dispatched(state, [&] { (k.*kernel)(); });
+  simd::use_target(simd::best_target());
+}
+void register_on_target() {
+  const std::pair<const char*, void (KernelArrays::*)()> kernels[] = {
+      {"compose", &KernelArrays::compose},         {"inverse", &KernelArrays::inverse},     {"transform_points", &KernelArrays::points},
+      {"transform_directions", &KernelArrays::directions}, {"to_matrices", &KernelArrays::to_matrices}, {"normalize", &KernelArrays::normalize},
+      {"slerp", &KernelArrays::slerp},             {"dlb", &KernelArrays::dlb},             {"sclerp", &KernelArrays::sclerp}};
+  for (const auto& [name, kernel] : kernels)
+    for (int t = 0; t <= static_cast<int>(simd::best_target()); ++t) {
+      const auto target = static_cast<simd::Target>(t);
+      benchmark::RegisterBenchmark(("OnTarget/" + std::string(name) + "/" + std::string(simd::to_string(target))).c_str(), OnTarget, kernel, target);
+    }
 }
 
 }  // namespace
@@ -624,6 +651,7 @@ int main(int argc, char** argv) {
   bench::add_cache_context();
   benchmark::AddCustomContext("simd_target", std::string(simd::to_string(simd::best_target())));
   benchmark::Initialize(&argc, argv);
+  register_on_target();
   // The roof: a quick copy measurement before the registered cases (the Copy case reports it too).
   copy_bandwidth() = bench::measure_bandwidth(bench::Stream::copy, 1);
   benchmark::AddCustomContext("copy_GBps_1thread", std::to_string(copy_bandwidth() / 1e9));

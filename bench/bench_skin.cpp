@@ -2,7 +2,8 @@
 // instruction set chosen at run time) on one and two threads, positions and normals, against the
 // plain per-vertex GLM code users write (glm::mat4 LBS, glm::dualquat DQS, glm::quat CoR; arrays of
 // structures) in the same binary, and STREAM's triad measured in the same run as the roof; and
-// DQS's bytes moved with no arithmetic (skin_streams), the most the memory allows its streams.
+// DQS's bytes moved with no arithmetic (skin_streams), the most the memory allows its streams;
+// and each method on one thread with each instruction set the CPU has forced (dqkit_skinning_on_target).
 //
 // The skin: at least 2^20 vertices and at least four times the last-level cache in bytes (read
 // from the CPU), 4 influences each, 64 bones with random rigid binds and poses. Every GLM variant
@@ -158,10 +159,9 @@ void report(benchmark::State& state, SkinningMethod method, unsigned threads) {
   if (triad_bandwidth(threads) > 0) state.counters["roofline"] = benchmark::Counter(bytes / triad_bandwidth(threads), benchmark::Counter::kIsRate);
 }
 
-void dqkit_skinning(benchmark::State& state, SkinningMethod method) {
+void time_skinning(benchmark::State& state, SkinningMethod method, unsigned threads) {
   Fixture& f = fixture();
   Output out(f.n);
-  const auto threads = static_cast<unsigned>(state.range(0));
   SkinningThreads pool(threads);
   state.SetLabel(std::string(simd::to_string(simd::current_target())));
   for (auto _ : state) {
@@ -170,6 +170,14 @@ void dqkit_skinning(benchmark::State& state, SkinningMethod method) {
     benchmark::ClobberMemory();
   }
   report(state, method, threads);
+}
+void dqkit_skinning(benchmark::State& state, SkinningMethod method) { time_skinning(state, method, static_cast<unsigned>(state.range(0))); }
+/// One thread with the instruction set forced (simd::use_target): what each target brings, in one
+/// run. Registered in main for every target this CPU has.
+void dqkit_skinning_on_target(benchmark::State& state, SkinningMethod method, simd::Target target) {
+  simd::use_target(target);
+  time_skinning(state, method, 1);
+  simd::use_target(simd::best_target());
 }
 
 // ---- the memory side alone ----------------------------------------------------------------------
@@ -353,6 +361,13 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("simd_target", std::string(dq::simd::to_string(dq::simd::best_target())));
   benchmark::AddCustomContext("vertices", std::to_string(vertex_count()));
   benchmark::Initialize(&argc, argv);
+  for (const auto& [name, method] : {std::pair{"lbs", SkinningMethod::lbs}, {"dqs", SkinningMethod::dqs}, {"cor", SkinningMethod::cor}})
+    for (int t = 0; t <= static_cast<int>(dq::simd::best_target()); ++t) {
+      const auto target = static_cast<dq::simd::Target>(t);
+      benchmark::RegisterBenchmark(("dqkit_skinning_on_target/" + std::string(name) + "/" + std::string(dq::simd::to_string(target))).c_str(),
+                                   dqkit_skinning_on_target, method, target)
+          ->UseRealTime();
+    }
   for (unsigned t : {1u, 2u}) {
     triad_bandwidth(t) = dq::bench::measure_bandwidth(dq::bench::Stream::triad, t);
     benchmark::AddCustomContext("triad_GBps_" + std::to_string(t) + "thread", std::to_string(triad_bandwidth(t) / 1e9));

@@ -133,6 +133,8 @@ def skinning_tables(add, s, context):
                     r = s[f"{name}/real_time"]
                     add(f"| {label} | {ns(s, f'{name}/real_time') / 1e6:.1f} ms | {fmt(r['vertices_per_s'])} | "
                         f"{fmt(r['bytes_per_second'], 'B/s')} | {r['bytes_per_second'] / triad:.2f} | | | |")
+    on_target_table(add, s, "dqkit_skinning_on_target", "### Skinning with each instruction set forced (one thread, the same skin, vertices per second)",
+                    "vertices_per_s", "/real_time")
 
 
 IK = (("ArmDualQuaternionLM", "dqkit LM, dual quaternions, 7-DOF arm"), ("ArmMatrixLM", "dqkit LM, 4x4 matrices, arm"),
@@ -160,6 +162,23 @@ def ik_table(add, k):
         iterations = f"{r['iterations']:.1f}" if r["iterations"] > 0 else "—"  # KDL's NR_JL does not report them
         add(f"| {label} | {r['solves_per_s']:,.0f} | {r['median_us']:.1f} | {iterations} | "
             f"{100 * r['success_rate']:.1f} % | {r['solves_per_s'] / lma:.2f} |")
+
+
+def on_target_table(add, cases, prefix, title, counter, suffix=""):
+    """The cases prefix/ROW/TARGET+suffix (each kernel with each instruction set forced), where the run
+    has them: a row per kernel, a column per target, and the widest target's rate over the scalar path's."""
+    names = [name[len(prefix) + 1:len(name) - len(suffix)] for name in cases if name.startswith(prefix + "/") and name.endswith(suffix)]
+    if not names:
+        return
+    rows = list(dict.fromkeys(name.split("/")[0] for name in names))
+    targets = list(dict.fromkeys(name.split("/")[1] for name in names))
+    add("")
+    add(title)
+    add("| | " + " | ".join(targets) + f" | {targets[-1]} ÷ {targets[0]} |")
+    add("| --- |" + " ---: |" * (len(targets) + 1))
+    for row in rows:
+        rate = [cases[f"{prefix}/{row}/{target}{suffix}"][counter] for target in targets]
+        add(f"| `{row}` | " + " | ".join(fmt(r) for r in rate) + f" | {rate[-1] / rate[0]:.2f} |")
 
 
 def run_suite(build):
@@ -274,6 +293,7 @@ def main(results):
         for peer, label in peers:
             theirs = b[peer]["per_s"]
             add(f"| `{kernel[0].lower() + ''.join('_' + ch.lower() if ch.isupper() else ch for ch in kernel[1:])}` | {fmt(mine)} | {label} | {fmt(theirs)} | {mine / theirs:.2f} |")
+    on_target_table(add, b, "OnTarget", "### Each kernel on each instruction set (the target forced; 4096 elements hot in cache, per second)", "per_s")
     add("")
     one_at_a_time(add, c, "portable build")
     one_at_a_time(add, c_avx2, "built with `-mavx2 -mfma`")

@@ -14,7 +14,7 @@ namespace dq::test {
 /// restores the best after.
 template <class F>
 void for_each_target(F f) {
-  for (simd::Target t : {simd::Target::scalar, simd::Target::sse2, simd::Target::avx2, simd::Target::avx512}) {
+  for (simd::Target t : {simd::Target::scalar, simd::Target::sse2, simd::Target::sse4, simd::Target::avx2, simd::Target::avx512}) {
     if (static_cast<int>(t) > static_cast<int>(simd::best_target())) break;
     ASSERT_EQ(simd::use_target(t), t);
     SCOPED_TRACE(std::string(simd::to_string(t)));

@@ -20,6 +20,15 @@ struct Lanes {
   [[gnu::always_inline]] Lanes() : v{} {}
   [[gnu::always_inline]] Lanes(vec<N> x) : v(x) {}          // NOLINT: implicit, as a scalar
   [[gnu::always_inline]] Lanes(float s) : v(vec<N>{} + s) {}  // NOLINT
+  // Copies as a vector. The implicit copy is a struct copy, which GCC 12, in the functions built
+  // for AVX2 and AVX-512, made in 16-byte pieces through general registers (vmovq, vpinsrq)
+  // wherever a value passed through memory: AVX2's to_matrices then ran slower than SSE2's, and
+  // normalize, dlb and sclerp 1.2–1.6 × slower than now (bench_batch's OnTarget cases).
+  [[gnu::always_inline]] Lanes(const Lanes& o) : v(o.v) {}
+  [[gnu::always_inline]] Lanes& operator=(const Lanes& o) {
+    v = o.v;
+    return *this;
+  }
   [[gnu::always_inline]] friend Lanes operator+(Lanes a, Lanes b) { return a.v + b.v; }
   [[gnu::always_inline]] friend Lanes operator-(Lanes a, Lanes b) { return a.v - b.v; }
   [[gnu::always_inline]] friend Lanes operator*(Lanes a, Lanes b) { return a.v * b.v; }

@@ -20,7 +20,7 @@
 
 namespace dq::simd {
 
-enum class Target { scalar, sse2, avx2, avx512 };
+enum class Target { scalar, sse2, sse4, avx2, avx512 };  ///< sse4: SSE4.2 (x86-64-v2)
 
 /// The widest target this CPU supports (scalar only if the build has no vector extensions).
 Target best_target() noexcept;
