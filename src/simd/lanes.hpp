@@ -22,8 +22,9 @@ struct Lanes {
   [[gnu::always_inline]] Lanes(float s) : v(vec<N>{} + s) {}  // NOLINT
   // Copies as a vector. The implicit copy is a struct copy, which GCC 12, in the functions built
   // for AVX2 and AVX-512, made in 16-byte pieces through general registers (vmovq, vpinsrq)
-  // wherever a value passed through memory: AVX2's to_matrices then ran slower than SSE2's, and
-  // normalize, dlb and sclerp 1.2–1.6 × slower than now (bench_batch's OnTarget cases).
+  // wherever a value passed through memory: AVX2's to_matrices ran at 0.75 × SSE2's speed. Copied
+  // as a vector, to_matrices, normalize, dlb and sclerp run 1.15–1.54 × faster with AVX2, and
+  // the first three 1.15–1.35 × with AVX-512 (bench_batch's OnTarget cases, docs/performance.md).
   [[gnu::always_inline]] Lanes(const Lanes& o) : v(o.v) {}
   [[gnu::always_inline]] Lanes& operator=(const Lanes& o) {
     v = o.v;
