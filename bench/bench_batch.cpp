@@ -8,7 +8,8 @@
 // sclerp over 4096 elements hot in cache against GLM, Eigen and dqkit's scalar sclerp per element;
 // and each of these kernels on every instruction set the CPU has, the target forced (OnTarget).
 // Every variant's result is checked once,
-// outside the timing, against dqkit's scalar types. Counters: bytes_per_second and, for the
+// outside the timing, against dqkit's scalar types (the OnTarget cases' results are not: the tests
+// check every target against the scalar path). Counters: bytes_per_second and, for the
 // memory-bound cases, `roofline` = achieved bytes/s ÷ the measured copy bandwidth.
 //   build/release/bench/bench_batch --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
@@ -428,11 +429,13 @@ void ComposeEigen(benchmark::State& state) {
 
 constexpr float kBlendT = 0.3f;
 
-/// 4096 pairs of unit dual quaternions (a, b) in SoA and AoS, directions, the a's scaled by 0.5–2
-/// (for normalize), and outputs.
+/// 4096 pairs of unit dual quaternions (a, b) in SoA (`ComponentArrays`, as the other cases' arrays)
+/// and AoS, directions, the a's scaled by 0.5–2 (for normalize), and outputs.
 struct KernelArrays {
   static constexpr std::size_t n = 4096;
-  std::vector<float> a[8], b[8], scaled[8], v[3], out[8], matrix[12];
+  ComponentArrays<float, 8> a{n}, b{n}, scaled{n}, out{n};
+  ComponentArrays<float, 3> v{n};
+  ComponentArrays<float, 12> matrix{n};
   std::vector<DualQuaternion<float>> dq_a, dq_b, dq_scaled;
   KernelArrays() {
     std::mt19937 rng(5);
@@ -442,26 +445,23 @@ struct KernelArrays {
       return DualQuaternion<float>::from_rotation_translation(Quaternion<float>(g(rng), g(rng), g(rng), g(rng)).normalized(), {g(rng), g(rng), g(rng)});
     };
     for (std::size_t i = 0; i < n; ++i) dq_a.push_back(random_transform()), dq_b.push_back(random_transform()), dq_scaled.push_back(dq_a[i] * s(rng));
-    auto soa = [](std::vector<float>(&c)[8], const std::vector<DualQuaternion<float>>& q) {
-      for (int k = 0; k < 8; ++k) {
-        c[k].resize(q.size());
+    auto soa = [](ComponentArrays<float, 8>& c, const std::vector<DualQuaternion<float>>& q) {
+      for (std::size_t k = 0; k < 8; ++k)
         for (std::size_t i = 0; i < q.size(); ++i) c[k][i] = (&q[i].real.w)[k];
-      }
     };
     soa(a, dq_a), soa(b, dq_b), soa(scaled, dq_scaled), soa(out, dq_a);
-    for (auto& x : v)
-      for (std::size_t i = 0; i < n; ++i) x.push_back(g(rng));
-    for (auto& x : matrix) x.resize(n);
+    for (std::size_t k = 0; k < 3; ++k)
+      for (std::size_t i = 0; i < n; ++i) v[k][i] = g(rng);
   }
-  std::array<float*, 12> matrices() {
-    std::array<float*, 12> m{};
-    for (std::size_t k = 0; k < 12; ++k) m[k] = matrix[k].data();
-    return m;
+  std::array<float*, 12> matrices() { return matrix.data(); }
+  static simd::ConstRows rows(const ComponentArrays<float, 8>& c) {
+    const auto p = c.data();
+    return {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]};
   }
-  static simd::ConstRows rows(const std::vector<float> (&c)[8]) {
-    return {c[0].data(), c[1].data(), c[2].data(), c[3].data(), c[4].data(), c[5].data(), c[6].data(), c[7].data()};
+  simd::Rows out_rows() {
+    const auto p = out.data();
+    return {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]};
   }
-  simd::Rows out_rows() { return {out[0].data(), out[1].data(), out[2].data(), out[3].data(), out[4].data(), out[5].data(), out[6].data(), out[7].data()}; }
   DualQuaternion<float> result(std::size_t i) const {
     return {out[0][i], out[1][i], out[2][i], out[3][i], out[4][i], out[5][i], out[6][i], out[7][i]};
   }
@@ -628,9 +628,8 @@ void SclerpScalar(benchmark::State& state) {
 /// each target brings, measured in one run. Registered in main for every target this CPU has.
 void OnTarget(benchmark::State& state, void (KernelArrays::*kernel)(), simd::Target target) {
   KernelArrays& k = kernel_arrays();
-  simd::use_target(target);
+  const simd::ScopedTarget scope(target);
   run_dispatched(state, [&] { (k.*kernel)(); });
-  simd::use_target(simd::best_target());
 }
 void register_on_target() {
   const std::pair<const char*, void (KernelArrays::*)()> kernels[] = {
@@ -638,8 +637,8 @@ void register_on_target() {
       {"transform_directions", &KernelArrays::directions}, {"to_matrices", &KernelArrays::to_matrices}, {"normalize", &KernelArrays::normalize},
       {"slerp", &KernelArrays::slerp},             {"dlb", &KernelArrays::dlb},             {"sclerp", &KernelArrays::sclerp}};
   for (const auto& [name, kernel] : kernels)
-    for (int t = 0; t <= static_cast<int>(simd::best_target()); ++t) {
-      const auto target = static_cast<simd::Target>(t);
+    for (simd::Target target : simd::kTargets) {
+      if (target > simd::best_target()) break;
       benchmark::RegisterBenchmark(("OnTarget/" + std::string(name) + "/" + std::string(simd::to_string(target))).c_str(), OnTarget, kernel, target);
     }
 }

@@ -175,9 +175,8 @@ void dqkit_skinning(benchmark::State& state, SkinningMethod method) { time_skinn
 /// One thread with the instruction set forced (simd::use_target): what each target brings, in one
 /// run. Registered in main for every target this CPU has.
 void dqkit_skinning_on_target(benchmark::State& state, SkinningMethod method, simd::Target target) {
-  simd::use_target(target);
+  const simd::ScopedTarget scope(target);
   time_skinning(state, method, 1);
-  simd::use_target(simd::best_target());
 }
 
 // ---- the memory side alone ----------------------------------------------------------------------
@@ -362,8 +361,8 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("vertices", std::to_string(vertex_count()));
   benchmark::Initialize(&argc, argv);
   for (const auto& [name, method] : {std::pair{"lbs", SkinningMethod::lbs}, {"dqs", SkinningMethod::dqs}, {"cor", SkinningMethod::cor}})
-    for (int t = 0; t <= static_cast<int>(dq::simd::best_target()); ++t) {
-      const auto target = static_cast<dq::simd::Target>(t);
+    for (dq::simd::Target target : dq::simd::kTargets) {
+      if (target > dq::simd::best_target()) break;
       benchmark::RegisterBenchmark(("dqkit_skinning_on_target/" + std::string(name) + "/" + std::string(dq::simd::to_string(target))).c_str(),
                                    dqkit_skinning_on_target, method, target)
           ->UseRealTime();

@@ -3,6 +3,8 @@
 
     /usr/bin/python3 scripts/performance.py [BUILD_DIR]      (default build/release, configured)
     /usr/bin/python3 scripts/performance.py --from-json      (the page and plot again from docs/performance.json)
+    /usr/bin/python3 scripts/performance.py --only KEY [BUILD_DIR]   (one binary again: bench_batch, bench_core,
+                                                     bench_core_avx2, bench_skin or bench_ik; the others' results kept)
 
 It builds bench_batch, bench_core, bench_skin and bench_ik in BUILD_DIR first, and bench_core with
 -mavx2 -mfma in build/bench-avx2.
@@ -177,8 +179,25 @@ def on_target_table(add, cases, prefix, title, counter, suffix=""):
     add("| | " + " | ".join(targets) + f" | {targets[-1]} ÷ {targets[0]} |")
     add("| --- |" + " ---: |" * (len(targets) + 1))
     for row in rows:
+        if any(f"{prefix}/{row}/{target}{suffix}" not in cases for target in targets):
+            continue  # a filtered run: not every target of this row
         rate = [cases[f"{prefix}/{row}/{target}{suffix}"][counter] for target in targets]
         add(f"| `{row}` | " + " | ".join(fmt(r) for r in rate) + f" | {rate[-1] / rate[0]:.2f} |")
+
+
+def measure(build, key):
+    """Runs one binary of the suite, brought up to date first (a binary older than the sources would be
+    measured as if it were them); `key` is its entry in docs/performance.json."""
+    if key == "bench_core_avx2":
+        return run(build_avx2(), "bench_core")
+    quiet(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", key])
+    return run(build, key, ["--benchmark_enable_random_interleaving=true"] if key == "bench_ik" else [])
+
+
+def save(results):
+    with open(os.path.join(ROOT, "docs", "performance.json"), "w") as f:
+        json.dump(results, f, indent=1)
+    return results
 
 
 def run_suite(build):
@@ -186,17 +205,17 @@ def run_suite(build):
     (GLM) and bench_ik (KDL) are left out where the build has no such target."""
     targets = quiet(["cmake", "--build", build, "--target", "help"])
     optional = [name for name in ("bench_skin", "bench_ik") if name in targets.split()]
-    # Brought up to date first: a binary older than the sources would be measured as if it were them.
-    quiet(["cmake", "--build", build, "-j", str(os.cpu_count() or 2), "--target", "bench_batch", "bench_core", *optional])
-    results = {"bench_batch": run(build, "bench_batch"), "bench_core": run(build, "bench_core"),
-               "bench_core_avx2": run(build_avx2(), "bench_core")}
-    if "bench_skin" in optional:
-        results["bench_skin"] = run(build, "bench_skin")
-    if "bench_ik" in optional:
-        results["bench_ik"] = run(build, "bench_ik", ["--benchmark_enable_random_interleaving=true"])
-    with open(os.path.join(ROOT, "docs", "performance.json"), "w") as f:
-        json.dump(results, f, indent=1)
-    return results
+    return save({key: measure(build, key) for key in ("bench_batch", "bench_core", "bench_core_avx2", *optional)})
+
+
+def rerun(build, key):
+    """Runs one binary again and replaces its results in docs/performance.json; the others stay."""
+    with open(os.path.join(ROOT, "docs", "performance.json")) as f:
+        results = json.load(f)
+    if key not in results:
+        sys.exit(f"performance.py: --only takes one of {', '.join(results)}, not {key}")
+    results[key] = measure(build, key)
+    return save(results)
 
 
 LLC_SOURCE = {"sysfs": "sysfs", "cpuid": "CPUID: this machine's sysfs has no cache entries; a virtual machine may be told the "
@@ -217,7 +236,8 @@ def main(results):
         f"target: {ctx['simd_target']}; GCC 12, Release, portable flags (no `-march`). Command: "
         "`/usr/bin/python3 scripts/performance.py` (runs `bench_batch`, `bench_core`, `bench_skin` and `bench_ik` with 3 "
         "repetitions, medians, and `bench_core` again built with `-mavx2 -mfma` in build/bench-avx2; raw results in "
-        "`docs/performance.json`).")
+        "`docs/performance.json`). Each binary's run began (UTC): " +
+        ", ".join(f"{key} {r['context']['date'][:16].replace('T', ' ')}" for key, r in results.items()) + ".")
     add("")
     add("### The machine's limits (same run)")
     add("| measure | 1 thread | 2 threads |")
@@ -366,8 +386,13 @@ def main(results):
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] == ["--from-json"]:
+    args = sys.argv[1:]
+    if args == ["--from-json"]:
         with open(os.path.join(ROOT, "docs", "performance.json")) as f:
             main(json.load(f))
+    elif args[:1] == ["--only"] and len(args) in (2, 3):
+        main(rerun(args[2] if len(args) == 3 else os.path.join(ROOT, "build", "release"), args[1]))
+    elif len(args) <= 1 and not args[:1] == ["--only"]:
+        main(run_suite(args[0] if args else os.path.join(ROOT, "build", "release")))
     else:
-        main(run_suite(sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "release")))
+        sys.exit(__doc__)

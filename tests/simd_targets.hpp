@@ -10,17 +10,17 @@
 
 namespace dq::test {
 
-/// Calls f(target) for every instruction set this CPU has (simd::use_target; scalar first), and
-/// restores the best after.
+/// Calls f(target) for every instruction set this CPU has (simd::ScopedTarget; scalar first), and
+/// restores the target in use after.
 template <class F>
 void for_each_target(F f) {
-  for (simd::Target t : {simd::Target::scalar, simd::Target::sse2, simd::Target::sse4, simd::Target::avx2, simd::Target::avx512}) {
-    if (static_cast<int>(t) > static_cast<int>(simd::best_target())) break;
-    ASSERT_EQ(simd::use_target(t), t);
+  for (simd::Target t : simd::kTargets) {
+    if (t > simd::best_target()) break;
+    const simd::ScopedTarget scope(t);
+    ASSERT_EQ(simd::current_target(), t);
     SCOPED_TRACE(std::string(simd::to_string(t)));
     f(t);
   }
-  simd::use_target(simd::Target::avx512);
 }
 
 inline bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }

@@ -579,13 +579,18 @@ TEST(Simd, DispatchReportsWhatTheCpuHas) {
   EXPECT_GE(static_cast<int>(best), static_cast<int>(Target::sse2));  // every x86-64 CPU has SSE2
   EXPECT_EQ(best == Target::avx512, static_cast<bool>(__builtin_cpu_supports("avx512f")));
   EXPECT_EQ(best >= Target::avx2, static_cast<bool>(__builtin_cpu_supports("avx2")));
-  EXPECT_EQ(best >= Target::sse4, static_cast<bool>(__builtin_cpu_supports("sse4.2")));
+  EXPECT_EQ(best >= Target::sse42, static_cast<bool>(__builtin_cpu_supports("sse4.2")));
 #endif
-  // Each target at most the best: the SSE4.2 kernels, too, are what for_each_target tests.
-  if (best >= Target::sse4) {
-    EXPECT_EQ(simd::use_target(Target::sse4), Target::sse4);
+  {
+    const simd::ScopedTarget scope(Target::scalar);
+    EXPECT_EQ(simd::current_target(), Target::scalar);
   }
-  EXPECT_EQ(simd::to_string(Target::sse4), "SSE4.2");
+  EXPECT_EQ(simd::current_target(), best);  // restored
+  // Each target at most the best: the SSE4.2 kernels, too, are what for_each_target tests.
+  if (best >= Target::sse42) {
+    EXPECT_EQ(simd::use_target(Target::sse42), Target::sse42);
+  }
+  EXPECT_EQ(simd::to_string(Target::sse42), "SSE4.2");
   EXPECT_EQ(simd::use_target(Target::scalar), Target::scalar);
   EXPECT_EQ(simd::use_target(Target::avx512), best);
 }

@@ -383,7 +383,7 @@ template <int N, class K, class... A>
     run_lanes<width, K>(n, args...);                                        \
   }
 DQKIT_TARGET(sse2, 4, "sse2")
-DQKIT_TARGET(sse4, 4, "sse4.2")
+DQKIT_TARGET(sse42, 4, "sse4.2")
 DQKIT_TARGET(avx2, 8, "avx2")
 DQKIT_TARGET(avx512, 16, "avx512f")
 #undef DQKIT_TARGET
@@ -392,7 +392,7 @@ Target detect() noexcept {
   __builtin_cpu_init();
   if (__builtin_cpu_supports("avx512f")) return Target::avx512;
   if (__builtin_cpu_supports("avx2")) return Target::avx2;
-  if (__builtin_cpu_supports("sse4.2")) return Target::sse4;
+  if (__builtin_cpu_supports("sse4.2")) return Target::sse42;
   return Target::sse2;  // part of every x86-64 CPU
 }
 #else
@@ -411,7 +411,7 @@ void dispatch(Target target, std::size_t n, A... args) {
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
     case Target::avx512: return run_avx512<K>(n, args...);
     case Target::avx2: return run_avx2<K>(n, args...);
-    case Target::sse4: return run_sse4<K>(n, args...);
+    case Target::sse42: return run_sse42<K>(n, args...);
     case Target::sse2: return run_sse2<K>(n, args...);
 #endif
     default: return K::scalar(0, n, args...);
@@ -441,7 +441,7 @@ std::string_view to_string(Target t) noexcept {
   switch (t) {
     case Target::scalar: return "scalar";
     case Target::sse2: return "SSE2";
-    case Target::sse4: return "SSE4.2";
+    case Target::sse42: return "SSE4.2";
     case Target::avx2: return "AVX2";
     case Target::avx512: return "AVX-512";
   }

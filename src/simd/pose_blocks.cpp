@@ -88,7 +88,7 @@ bool streams(const BlockedForwardKinematicsJob<float>& job) {
     job.run_blocks([](ConstRows parent, ConstRows local, Rows model) { block_product<lanes>(parent, local, model); }); \
   }
 DQKIT_TARGET_KERNEL(sse2, 4, "sse2")
-DQKIT_TARGET_KERNEL(sse4, 4, "sse4.2")
+DQKIT_TARGET_KERNEL(sse42, 4, "sse4.2")
 DQKIT_TARGET_KERNEL(avx2, 8, "avx2")
 DQKIT_TARGET_KERNEL(avx512, 16, "avx512f")
 #undef DQKIT_TARGET_KERNEL
@@ -111,7 +111,7 @@ void run(const BlockedForwardKinematicsJob<float>& job) {
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
     case Target::avx512: return streams(job) ? stream_avx512(job) : run_avx512(job);
     case Target::avx2: return streams(job) ? stream_avx2(job) : run_avx2(job);
-    case Target::sse4: return run_sse4(job);
+    case Target::sse42: return run_sse42(job);
     case Target::sse2: return run_sse2(job);
 #endif
     default: return job.run();

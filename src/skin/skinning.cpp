@@ -404,7 +404,7 @@ template <SkinningMethod M, int N>
     skin_vectors<M, lanes>(s, b, e);                                                                                   \
   }
 DQKIT_SKIN_TARGET(sse2, 4, "sse2")
-DQKIT_SKIN_TARGET(sse4, 4, "sse4.2")
+DQKIT_SKIN_TARGET(sse42, 4, "sse4.2")
 DQKIT_SKIN_TARGET(avx2, 8, "avx2,fma")
 DQKIT_SKIN_TARGET(avx512, 16, "avx512f")
 #undef DQKIT_SKIN_TARGET
@@ -418,7 +418,7 @@ void skin_range(const Skin& skin, const SkinPalette& pal, const SkinnedVertices&
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
     case simd::Target::avx512: return skin_avx512<M>(s, b, e);
     case simd::Target::avx2: return skin_avx2<M>(s, b, e);
-    case simd::Target::sse4: return skin_sse4<M>(s, b, e);
+    case simd::Target::sse42: return skin_sse42<M>(s, b, e);
     case simd::Target::sse2: return skin_sse2<M>(s, b, e);
 #endif
     default: return skin_scalar_slots<M>(s, b, e);

@@ -124,7 +124,7 @@ struct BlockedForwardKinematicsJob {
   /// Stores::streaming, 100,000 poses of 64 joints ran 1.12–1.26× faster on one thread
   /// (docs/performance.md). Streaming is honoured by the AVX2 and AVX-512 kernels for up to 128
   /// joints and model storage aligned to 64 bytes (DualQuaternionBlockStorage's is), and then needs
-  /// 64 KB of stack; otherwise (the SSE2 kernel, which it slowed down, run(), double, a build
+  /// 64 KB of stack; otherwise (the SSE2 and SSE4.2 kernels, which it slowed down, run(), double, a build
   /// without the vector kernels) the stores are cached.
   Stores stores = Stores::cached;
 

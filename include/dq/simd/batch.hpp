@@ -20,7 +20,10 @@
 
 namespace dq::simd {
 
-enum class Target { scalar, sse2, sse4, avx2, avx512 };  ///< sse4: SSE4.2 (x86-64-v2)
+/// The instruction sets, narrowest first. sse42: SSE4.2 with SSSE3 and SSE4.1, the widest of CPUs
+/// without AVX (x86-64-v2 but for POPCNT and CMPXCHG16B, which the kernels do not use).
+enum class Target { scalar, sse2, sse42, avx2, avx512 };
+inline constexpr Target kTargets[] = {Target::scalar, Target::sse2, Target::sse42, Target::avx2, Target::avx512};
 
 /// The widest target this CPU supports (scalar only if the build has no vector extensions).
 Target best_target() noexcept;
@@ -30,6 +33,18 @@ Target current_target() noexcept;
 /// `t` and best_target()). Not thread-safe with running kernels.
 Target use_target(Target t) noexcept;
 std::string_view to_string(Target t) noexcept;
+/// use_target(t) for a scope, then the target in use before (for tests and measurements; not
+/// thread-safe with running kernels).
+class ScopedTarget {
+ public:
+  explicit ScopedTarget(Target t) noexcept : previous_(current_target()) { use_target(t); }
+  ~ScopedTarget() { use_target(previous_); }
+  ScopedTarget(const ScopedTarget&) = delete;
+  ScopedTarget& operator=(const ScopedTarget&) = delete;
+
+ private:
+  Target previous_;
+};
 
 using ConstRows = detail::Row8<const float>;  ///< eight component arrays of dual quaternions
 using Rows = detail::Row8<float>;

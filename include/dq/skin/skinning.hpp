@@ -6,7 +6,7 @@
 // matrix and one dual quaternion per bone, float); a SkinningJob then skins a vertex range. Jobs
 // allocate nothing; SkinningThreads keeps its threads between frames, so a frame allocates nothing.
 //
-// The kernels run on vectors of 4, 8 or 16 vertices (SSE2, AVX2, AVX-512), the instruction set
+// The kernels run on vectors of 4, 8 or 16 vertices (SSE2, SSE4.2, AVX2, AVX-512), the instruction set
 // chosen at run time from the CPU by dqkit::simd (dq::simd::current_target; dq::simd::use_target
 // limits it). Every vertex runs the same K influence slots (padding has weight 0), data is read from
 // component arrays, each lane loads its bones' palette records whole and a transpose makes component
