@@ -624,7 +624,7 @@ void SclerpScalar(benchmark::State& state) {
       [&](std::size_t i, const DualQuaternion<float>& q) { return approx_equal(q, k.result(i), 1e-5f * (1 + norm(q.translation()))); });
 }
 
-/// A dispatched kernel on the hot arrays with the instruction set forced (simd::use_target): what
+/// A dispatched kernel on the hot arrays with the instruction set forced (simd::ScopedTarget): what
 /// each target brings, measured in one run. Registered in main for every target this CPU has.
 void OnTarget(benchmark::State& state, void (KernelArrays::*kernel)(), simd::Target target) {
   KernelArrays& k = kernel_arrays();

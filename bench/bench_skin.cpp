@@ -172,7 +172,7 @@ void time_skinning(benchmark::State& state, SkinningMethod method, unsigned thre
   report(state, method, threads);
 }
 void dqkit_skinning(benchmark::State& state, SkinningMethod method) { time_skinning(state, method, static_cast<unsigned>(state.range(0))); }
-/// One thread with the instruction set forced (simd::use_target): what each target brings, in one
+/// One thread with the instruction set forced (simd::ScopedTarget): what each target brings, in one
 /// run. Registered in main for every target this CPU has.
 void dqkit_skinning_on_target(benchmark::State& state, SkinningMethod method, simd::Target target) {
   const simd::ScopedTarget scope(target);
