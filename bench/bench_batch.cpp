@@ -283,8 +283,6 @@ struct Arrays {
       for (std::size_t k = 0; k < 3; ++k) p[k][i] = g(rng);
     }
   }
-  simd::ConstRows rows() const { return {c[0].data(), c[1].data(), c[2].data(), c[3].data(), c[4].data(), c[5].data(), c[6].data(), c[7].data()}; }
-  simd::Rows out_rows() { return {o8[0].data(), o8[1].data(), o8[2].data(), o8[3].data(), o8[4].data(), o8[5].data(), o8[6].data(), o8[7].data()}; }
 };
 // warm_up_note: the dispatched cases over these arrays run their kernel once before the timing.
 // The arrays are made once and kept, while each peer's copy is made, and so touched, just before
@@ -300,9 +298,9 @@ void TransformPointsDispatched(benchmark::State& state) {
   Arrays& a = arrays(size_of(state));
   const std::size_t n = a.dq.size();
   state.SetLabel(std::string(simd::to_string(simd::current_target())));
-  simd::transform_points(a.rows(), std::as_const(a.p).data(), a.out.data(), n);  // untimed: see warm_up_note
+  simd::transform_points(simd::rows(a.c), std::as_const(a.p).data(), a.out.data(), n);  // untimed: see warm_up_note
   for (auto _ : state) {
-    simd::transform_points(a.rows(), std::as_const(a.p).data(), a.out.data(), n);
+    simd::transform_points(simd::rows(a.c), std::as_const(a.p).data(), a.out.data(), n);
     benchmark::ClobberMemory();
   }
   state.counters["points_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
@@ -323,7 +321,7 @@ void TransformPointsEigenIsometry3f(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
   // Checked once against dqkit.
-  simd::transform_points(a.rows(), std::as_const(a.p).data(), a.out.data(), n);
+  simd::transform_points(simd::rows(a.c), std::as_const(a.p).data(), a.out.data(), n);
   for (std::size_t i = 0; i < n; i += 97)
     if ((out[i] - Eigen::Vector3f(a.out[0][i], a.out[1][i], a.out[2][i])).norm() > 1e-4f * (1 + out[i].norm())) state.SkipWithError("Eigen and dqkit disagree");
   state.counters["points_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
@@ -383,9 +381,9 @@ void ComposeDispatched(benchmark::State& state) {
   Arrays& a = arrays(size_of(state));
   const std::size_t n = a.dq.size();
   state.SetLabel(std::string(simd::to_string(simd::current_target())));
-  simd::compose(a.rows(), a.rows(), a.out_rows(), n);  // untimed: see warm_up_note
+  simd::compose(simd::rows(a.c), simd::rows(a.c), simd::rows(a.o8), n);  // untimed: see warm_up_note
   for (auto _ : state) {
-    simd::compose(a.rows(), a.rows(), a.out_rows(), n);
+    simd::compose(simd::rows(a.c), simd::rows(a.c), simd::rows(a.o8), n);
     benchmark::ClobberMemory();
   }
   state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
@@ -454,28 +452,20 @@ struct KernelArrays {
       for (std::size_t i = 0; i < n; ++i) v[k][i] = g(rng);
   }
   std::array<float*, 12> matrices() { return matrix.data(); }
-  static simd::ConstRows rows(const ComponentArrays<float, 8>& c) {
-    const auto p = c.data();
-    return {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]};
-  }
-  simd::Rows out_rows() {
-    const auto p = out.data();
-    return {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]};
-  }
   DualQuaternion<float> result(std::size_t i) const {
     return {out[0][i], out[1][i], out[2][i], out[3][i], out[4][i], out[5][i], out[6][i], out[7][i]};
   }
   // The dispatched kernels on these arrays: what the *Dispatched cases time, what each peer is
   // checked against, and what OnTarget runs on each instruction set.
-  void inverse() { simd::inverse(rows(a), out_rows(), n); }
-  void directions() { simd::transform_directions(rows(a), {v[0].data(), v[1].data(), v[2].data()}, {out[0].data(), out[1].data(), out[2].data()}, n); }
-  void to_matrices() { simd::to_matrices(rows(a), matrices(), n); }
-  void normalize() { simd::normalize(rows(scaled), out_rows(), n); }
-  void dlb() { simd::dlb(rows(a), rows(b), kBlendT, out_rows(), n); }
-  void sclerp() { simd::sclerp(rows(a), rows(b), kBlendT, out_rows(), n); }
+  void inverse() { simd::inverse(simd::rows(a), simd::rows(out), n); }
+  void directions() { simd::transform_directions(simd::rows(a), {v[0].data(), v[1].data(), v[2].data()}, {out[0].data(), out[1].data(), out[2].data()}, n); }
+  void to_matrices() { simd::to_matrices(simd::rows(a), matrices(), n); }
+  void normalize() { simd::normalize(simd::rows(scaled), simd::rows(out), n); }
+  void dlb() { simd::dlb(simd::rows(a), simd::rows(b), kBlendT, simd::rows(out), n); }
+  void sclerp() { simd::sclerp(simd::rows(a), simd::rows(b), kBlendT, simd::rows(out), n); }
   // Only in OnTarget (their own cases run on the Arrays and SlerpArrays above).
-  void compose() { simd::compose(rows(a), rows(b), out_rows(), n); }
-  void points() { simd::transform_points(rows(a), {v[0].data(), v[1].data(), v[2].data()}, {out[0].data(), out[1].data(), out[2].data()}, n); }
+  void compose() { simd::compose(simd::rows(a), simd::rows(b), simd::rows(out), n); }
+  void points() { simd::transform_points(simd::rows(a), {v[0].data(), v[1].data(), v[2].data()}, {out[0].data(), out[1].data(), out[2].data()}, n); }
   void slerp() {
     simd::slerp({a[0].data(), a[1].data(), a[2].data(), a[3].data()}, {b[0].data(), b[1].data(), b[2].data(), b[3].data()}, kBlendT,
                 {out[0].data(), out[1].data(), out[2].data(), out[3].data()}, n);
@@ -637,10 +627,8 @@ void register_on_target() {
       {"transform_directions", &KernelArrays::directions}, {"to_matrices", &KernelArrays::to_matrices}, {"normalize", &KernelArrays::normalize},
       {"slerp", &KernelArrays::slerp},             {"dlb", &KernelArrays::dlb},             {"sclerp", &KernelArrays::sclerp}};
   for (const auto& [name, kernel] : kernels)
-    for (simd::Target target : simd::kTargets) {
-      if (target > simd::best_target()) break;
+    for (simd::Target target : simd::available_targets())
       benchmark::RegisterBenchmark(("OnTarget/" + std::string(name) + "/" + std::string(simd::to_string(target))).c_str(), OnTarget, kernel, target);
-    }
 }
 
 }  // namespace

@@ -361,12 +361,10 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("vertices", std::to_string(vertex_count()));
   benchmark::Initialize(&argc, argv);
   for (const auto& [name, method] : {std::pair{"lbs", SkinningMethod::lbs}, {"dqs", SkinningMethod::dqs}, {"cor", SkinningMethod::cor}})
-    for (dq::simd::Target target : dq::simd::kTargets) {
-      if (target > dq::simd::best_target()) break;
+    for (dq::simd::Target target : dq::simd::available_targets())
       benchmark::RegisterBenchmark(("dqkit_skinning_on_target/" + std::string(name) + "/" + std::string(dq::simd::to_string(target))).c_str(),
                                    dqkit_skinning_on_target, method, target)
           ->UseRealTime();
-    }
   for (unsigned t : {1u, 2u}) {
     triad_bandwidth(t) = dq::bench::measure_bandwidth(dq::bench::Stream::triad, t);
     benchmark::AddCustomContext("triad_GBps_" + std::to_string(t) + "thread", std::to_string(triad_bandwidth(t) / 1e9));

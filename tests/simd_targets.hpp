@@ -14,8 +14,7 @@ namespace dq::test {
 /// restores the target in use after.
 template <class F>
 void for_each_target(F f) {
-  for (simd::Target t : simd::kTargets) {
-    if (t > simd::best_target()) break;
+  for (simd::Target t : simd::available_targets()) {
     const simd::ScopedTarget scope(t);
     ASSERT_EQ(simd::current_target(), t);
     SCOPED_TRACE(std::string(simd::to_string(t)));

@@ -44,12 +44,8 @@ struct Batch {
   DualQuaternion<float> get(std::size_t i) const {
     return {c[0][i], c[1][i], c[2][i], c[3][i], c[4][i], c[5][i], c[6][i], c[7][i]};
   }
-  simd::ConstRows rows() const {
-    return {c[0].data(), c[1].data(), c[2].data(), c[3].data(), c[4].data(), c[5].data(), c[6].data(), c[7].data()};
-  }
-  simd::Rows rows() {
-    return {c[0].data(), c[1].data(), c[2].data(), c[3].data(), c[4].data(), c[5].data(), c[6].data(), c[7].data()};
-  }
+  simd::ConstRows rows() const { return detail::row_of<const float>(c, 0); }
+  simd::Rows rows() { return detail::row_of<float>(c, 0); }
 };
 
 using test::for_each_target;
@@ -586,6 +582,14 @@ TEST(Simd, DispatchReportsWhatTheCpuHas) {
     EXPECT_EQ(simd::current_target(), Target::scalar);
   }
   EXPECT_EQ(simd::current_target(), best);  // restored
+  // available_targets: scalar up to the best, each one accepted by use_target as itself.
+  ASSERT_FALSE(simd::available_targets().empty());
+  EXPECT_EQ(simd::available_targets().front(), Target::scalar);
+  EXPECT_EQ(simd::available_targets().back(), best);
+  for (const Target t : simd::available_targets()) {
+    const simd::ScopedTarget scope(t);
+    EXPECT_EQ(simd::current_target(), t) << simd::to_string(t);
+  }
   // Each target at most the best: the SSE4.2 kernels, too, are what for_each_target tests.
   if (best >= Target::sse42) {
     EXPECT_EQ(simd::use_target(Target::sse42), Target::sse42);

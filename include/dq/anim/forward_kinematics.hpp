@@ -132,10 +132,16 @@ namespace detail {
 template <class T>
 struct Row8 {
   T *rw, *rx, *ry, *rz, *dw, *dx, *dy, *dz;
+  /// Writable rows read as well.
+  operator Row8<const T>() const noexcept
+    requires(!std::is_const_v<T>)
+  {
+    return {rw, rx, ry, rz, dw, dx, dy, dz};
+  }
 };
-/// The row at `offset` of eight component arrays.
+/// The row at `offset` of eight component arrays (X const for reading).
 template <class X, class Components>
-Row8<X> row_of(const Components& c, std::size_t offset) {
+Row8<X> row_of(Components& c, std::size_t offset) {
   return {c[0].data() + offset, c[1].data() + offset, c[2].data() + offset, c[3].data() + offset,
           c[4].data() + offset, c[5].data() + offset, c[6].data() + offset, c[7].data() + offset};
 }

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstddef>
+#include <span>
 #include <string_view>
 
 #include "dq/anim/forward_kinematics.hpp"
@@ -27,6 +28,11 @@ inline constexpr Target kTargets[] = {Target::scalar, Target::sse2, Target::sse4
 
 /// The widest target this CPU supports (scalar only if the build has no vector extensions).
 Target best_target() noexcept;
+/// The targets this CPU supports, narrowest first: kTargets up to best_target().
+inline std::span<const Target> available_targets() noexcept {
+  static_assert(kTargets[static_cast<int>(Target::avx512)] == Target::avx512, "kTargets is indexed by Target");
+  return std::span<const Target>(kTargets).first(static_cast<std::size_t>(best_target()) + 1);
+}
 /// The target in use: best_target() unless limited by use_target.
 Target current_target() noexcept;
 /// Uses at most `t` (for tests and measurements); returns the target now in use (the lower of
@@ -48,6 +54,9 @@ class ScopedTarget {
 
 using ConstRows = detail::Row8<const float>;  ///< eight component arrays of dual quaternions
 using Rows = detail::Row8<float>;
+/// The eight arrays of `c` (w, x, y, z of the real part, then of the dual part) as the kernels' rows.
+inline ConstRows rows(const ComponentArrays<float, 8>& c) noexcept { return detail::row_of<const float>(c, 0); }
+inline Rows rows(ComponentArrays<float, 8>& c) noexcept { return detail::row_of<float>(c, 0); }
 
 /// out[i] = a[i] · b[i] for i < n. `out` may be `a` or `b` (element by element); partial overlaps
 /// are not allowed.
