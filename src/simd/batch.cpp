@@ -151,22 +151,20 @@ template <int N>
   return {{r, dual}, any((clamped - n2) + zero) || any(k - k)};
 }
 
-/// Ω/|v| for a rotation (w, v) with w ≥ 0, whose half angle Ω = atan(|v|/w) is in [0, π/2]:
-/// branch-free, from atan's series with one argument halving (it then converges to float
-/// precision in 10 terms). Near w = 0 (Ω near π/2) as (π/2 − atan(w/|v|))/|v|; near |v| = 0 it
-/// tends to 1/w, with no division by |v|.
+/// Ω/|v| for a rotation (w, v) with w ≥ 0, s = |v| and norm n = √(w² + s²) (1 for a unit one),
+/// whose half angle Ω is in [0, π/2]: branch-free, from atan's series at the tangent of half the
+/// angle (it then converges to float precision in 10 terms). For Ω ≤ π/4, tan(Ω/2) = s/(n + w) = z
+/// and Ω/s = 2 atan(z)/z / (n + w), with no division by s (it tends to 1/w, the limit, as s → 0).
+/// For Ω > π/4 the same at the complement π/2 − Ω (whose tangent is w/s): Ω = π/2 − 2 atan(w/(n + s)),
+/// and s > n/√2. One division on each path, and the two paths independent.
 template <int N>
-[[gnu::always_inline]] inline Lanes<N> omega_over_sine(const Lanes<N>& w, const Lanes<N>& s) {
+[[gnu::always_inline]] inline Lanes<N> omega_over_sine(const Lanes<N>& w, const Lanes<N>& s, const Lanes<N>& n) {
   using V = Lanes<N>;
-  const V one = 1.0f, half_pi = std::numbers::pi_v<float> / 2;
-  // atan(z)/z for z ∈ [0, 1] through z' = z / (1 + √(1 + z²)) ≤ tan π/8: atan z = 2 atan z'.
-  auto atanc = [&](V z) {
-    const V d = one + sqrt(one + z * z), zh = z / d;
-    return V(2.0f) * polynomial(zh * zh, kAtanc) / d;
-  };
-  const V small_angle = atanc(s / w) / w;                       // w ≥ s: Ω = atan(s/w)
-  const V z = w / select_less(s, w, one, s);                    // (s < w lanes: unused)
-  const V large_angle = (half_pi - z * atanc(z)) / select_less(s, w, one, s);
+  const V one = 1.0f, two = 2.0f, half_pi = std::numbers::pi_v<float> / 2;
+  const V over_nw = one / (n + w), z = s * over_nw;
+  const V small_angle = two * polynomial(z * z, kAtanc) * over_nw;  // s ≤ w
+  const V zc = w / (n + s);
+  const V large_angle = (half_pi - two * zc * polynomial(zc * zc, kAtanc)) / select_less(s, w, one, s);  // (s < w lanes: unused)
   return select_less(s, w, small_angle, large_angle);
 }
 #endif
@@ -296,11 +294,13 @@ struct Slerp {
     // to rounding): at an exact tie (a · b = 0) both take b's arc as given. (From a normalized
     // first, the tie's products no longer cancel exactly, and the sign of the rounding chose.)
     const V sign = select_less(dot(qa, qb), zero, -one, one);
+    // The relative rotation from a and b as given, not normalized: only its direction matters
+    // (omega_over_sine takes its norm, and v's length cancels in u), so the inputs'
+    // normalization is off the chain, a's for the last product only.
+    const Quaternion<V> r = detail::hamilton(qa.conjugate(), qb * sign);
     qa = qa * (one / sqrt(dot(qa, qa)));
-    Quaternion<V> r = detail::hamilton(qa.conjugate(), qb * sign);
-    r = r * (one / sqrt(dot(r, r)));
     const Vec3<V> v = r.vec();
-    const Vec3<V> u = v * (omega_over_sine(r.w, sqrt(dot(v, v))) * tt);
+    const Vec3<V> u = v * (omega_over_sine(r.w, sqrt(dot(v, v)), sqrt(dot(r, r))) * tt);
     const V h2 = dot(u, u);
     const Quaternion<V> e(polynomial(h2, kCos), u * polynomial(h2, kSinc));
     store4<N>(out, i, detail::hamilton(qa, e));
@@ -338,7 +338,7 @@ struct Sclerp {
     const V w = d.real.w;
     const Vec3<V> v = d.real.vec();
     const V s = sqrt(dot(v, v));
-    const V omega_over_s = omega_over_sine(w, s);
+    const V omega_over_s = omega_over_sine(w, s, one);
     // The rotation p^t, and h = tΩ.
     const V scale = omega_over_s * tt;
     const Vec3<V> vt = v * scale;

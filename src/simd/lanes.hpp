@@ -44,12 +44,18 @@ struct Lanes {
   }
 };
 
-/// Σ c_k x^k by Horner's rule on lanes.
+/// Σ c_k x^k on lanes by Estrin's scheme: the pairs c_k + c_(k+1) x, then pairs of those joined
+/// by x², then by x⁴, ...: a chain of about 2 log₂ K dependent operations where Horner's rule has
+/// 2K (the kernels that use it, slerp and sclerp, are bound by their chains' latency).
 template <int N, std::size_t K>
 [[gnu::always_inline]] inline Lanes<N> polynomial(Lanes<N> x, const std::array<float, K>& c) {
-  Lanes<N> acc = c[K - 1];
-  for (std::size_t k = K - 1; k-- > 0;) acc = acc * x + Lanes<N>(c[k]);
-  return acc;
+  std::array<Lanes<N>, (K + 1) / 2> terms;
+  for (std::size_t k = 0; k < K; k += 2) terms[k / 2] = k + 1 < K ? Lanes<N>(c[k]) + Lanes<N>(c[k + 1]) * x : Lanes<N>(c[k]);
+  for (std::size_t count = terms.size(); count > 1; count = (count + 1) / 2) {
+    x = x * x;
+    for (std::size_t k = 0; k < count; k += 2) terms[k / 2] = k + 1 < count ? terms[k] + terms[k + 1] * x : terms[k];
+  }
+  return terms[0];
 }
 template <int N>
 [[gnu::always_inline]] inline Lanes<N> load(const float* p) {
