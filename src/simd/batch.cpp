@@ -231,6 +231,10 @@ struct ToMatrices {
   template <int N>
   [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows q, Matrices out) {
     const Mat34<Lanes<N>> m = to_mat34(load8<N>(q, i));
+    // Unrolled, so that each column is stored from its register. As a loop (GCC 12 kept it for
+    // AVX2), the matrix went to the stack and each store became a copy from there in 16-byte
+    // pieces: AVX2 ran behind SSE2.
+#pragma GCC unroll 12
     for (std::size_t k = 0; k < 12; ++k) store<N>(out[k] + i, m.m[k]);
   }
 #endif
