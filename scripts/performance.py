@@ -44,6 +44,7 @@ def medians(result):
 
 
 def fmt(x, unit=""):
+    x = float(f"{x:.3g}")  # rounded first, so that 999.6 M is 1 G rather than 1e+03 M
     for scale, suffix in ((1e9, " G"), (1e6, " M"), (1e3, " k")):
         if abs(x) >= scale:
             return f"{x / scale:.3g}{suffix}{unit}"

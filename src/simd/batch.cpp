@@ -152,7 +152,8 @@ template <int N>
 }
 
 /// Ω/|v| for a rotation (w, v) with w ≥ 0, s = |v| and norm n = √(w² + s²) (1 for a unit one),
-/// whose half angle Ω is in [0, π/2]: branch-free, from atan's series at the tangent of half the
+/// whose half angle Ω is in [0, π/2] (a w below 0 by rounding takes the second path below, with
+/// Ω just above π/2, still right): branch-free, from atan's series at the tangent of half the
 /// angle (it then converges to float precision in 10 terms). For Ω ≤ π/4, tan(Ω/2) = s/(n + w) = z
 /// and Ω/s = 2 atan(z)/z / (n + w), with no division by s (it tends to 1/w, the limit, as s → 0).
 /// For Ω > π/4 the same at the complement π/2 − Ω (whose tangent is w/s): Ω = π/2 − 2 atan(w/(n + s)),
@@ -162,7 +163,7 @@ template <int N>
   using V = Lanes<N>;
   const V one = 1.0f, two = 2.0f, half_pi = std::numbers::pi_v<float> / 2;
   const V over_nw = one / (n + w), z = s * over_nw;
-  const V small_angle = two * polynomial(z * z, kAtanc) * over_nw;  // s ≤ w
+  const V small_angle = two * polynomial(z * z, kAtanc) * over_nw;  // s < w
   const V zc = w / (n + s);
   const V large_angle = (half_pi - two * zc * polynomial(zc * zc, kAtanc)) / select_less(s, w, one, s);  // (s < w lanes: unused)
   return select_less(s, w, small_angle, large_angle);

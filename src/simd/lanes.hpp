@@ -49,10 +49,14 @@ struct Lanes {
 /// 2K (the kernels that use it, slerp and sclerp, are bound by their chains' latency).
 template <int N, std::size_t K>
 [[gnu::always_inline]] inline Lanes<N> polynomial(Lanes<N> x, const std::array<float, K>& c) {
+  // Unrolled, so that the terms stay in registers (a loop left rolled keeps them in memory).
   std::array<Lanes<N>, (K + 1) / 2> terms;
+#pragma GCC unroll 16
   for (std::size_t k = 0; k < K; k += 2) terms[k / 2] = k + 1 < K ? Lanes<N>(c[k]) + Lanes<N>(c[k + 1]) * x : Lanes<N>(c[k]);
+#pragma GCC unroll 8
   for (std::size_t count = terms.size(); count > 1; count = (count + 1) / 2) {
     x = x * x;
+#pragma GCC unroll 8
     for (std::size_t k = 0; k < count; k += 2) terms[k / 2] = k + 1 < count ? terms[k] + terms[k + 1] * x : terms[k];
   }
   return terms[0];

@@ -30,7 +30,13 @@ inline constexpr Target kTargets[] = {Target::scalar, Target::sse2, Target::sse4
 Target best_target() noexcept;
 /// The targets this CPU supports, narrowest first: kTargets up to best_target().
 inline std::span<const Target> available_targets() noexcept {
-  static_assert(kTargets[static_cast<int>(Target::avx512)] == Target::avx512, "kTargets is indexed by Target");
+  static_assert(
+      [] {
+        for (std::size_t i = 0; i < std::size(kTargets); ++i)
+          if (static_cast<std::size_t>(kTargets[i]) != i) return false;
+        return true;
+      }(),
+      "kTargets is indexed by Target");
   return std::span<const Target>(kTargets).first(static_cast<std::size_t>(best_target()) + 1);
 }
 /// The target in use: best_target() unless limited by use_target.
@@ -104,10 +110,11 @@ struct QuaternionRows {
 /// branch-free on the vector lanes with polynomials accurate to float precision on the range
 /// t ∈ [0, 1] covers; other t (extrapolation) run dq::slerp itself. Not bit-identical to
 /// dq::slerp (a different evaluation of the same function): against dq::slerp in long double,
-/// within 16 float ulps per component (tested; at most 3.5 measured by bench/interpolation_accuracy
+/// within 16 float ulps per component (tested; at most 3.1 measured by bench/interpolation_accuracy
 /// on 16.8 million random pairs, dq::slerp<float> 3.5), on the same arc at exact ties (a · b = 0)
-/// for inputs unit to rounding. Precondition: the inputs' norms and their product between 1e-18
-/// and 1e18 (their squares normal floats).
+/// for inputs unit to rounding. Precondition on the vector lanes (t in [0, 1] and a target above
+/// scalar; dq::slerp, which the others run, has none): the inputs' norms and their product between
+/// 1e-18 and 1e18 (their squares normal floats); outside it results may be NaN, zero or inaccurate.
 void slerp(QuaternionRows<const float> a, QuaternionRows<const float> b, float t, QuaternionRows<float> out, std::size_t n);
 
 /// out[i] = dq::dlb(a[i], b[i], t) for i < n, bit for bit for every input: dual quaternion linear
@@ -128,8 +135,8 @@ void dlb(ConstRows a, ConstRows b, float t, Rows out, std::size_t n);
 /// renormalized as dq::sclerp is; other t (extrapolation) run dq::sclerp itself. Not bit-identical
 /// to dq::sclerp: against it in long double, within 8 float ulps of 1 in the real part and 8 ulps
 /// of (1 + |t_a| + |t_b|)/2 in the dual part (t_a, t_b the inputs' translations), tested; at most
-/// 3.3 and 6.1 measured by bench/interpolation_accuracy on 16.8 million random pairs and t,
-/// dq::sclerp<float> 2.9 and 6.8.
+/// 3.1 and 6.1 measured by bench/interpolation_accuracy on 16.8 million random pairs and t,
+/// dq::sclerp<float> 3.2 and 6.4.
 /// Precondition: unit inputs (to float rounding, as products of unit dual quaternions are); the
 /// relative motion is rescaled to a unit real part, so slightly drifted inputs give a slightly
 /// different but unit result; a zero real part is not a rigid transform and gives NaN.
