@@ -128,9 +128,9 @@ std::vector<Quaternion<float>> batch_slerp(const std::vector<Quaternion<float>>&
 
 TEST(Simd, SlerpOverArraysHasNoFailureCaseAndFloatAccuracy) {
   // Random pairs plus the thesis' failure cases: equal endpoints, a few ulps apart, exactly and
-  // nearly opposite, off the unit sphere (to 1e±9). Reference: dq::slerp in long double. Bound: 16 float
-  // ulps per component (about twenty operations of half an ulp each, and series truncated below
-  // an ulp), far below what a wrong branch or a division by sin Ω would give.
+  // nearly opposite, off the unit sphere (to 1e±9). Reference: dq::slerp in long double. Bound:
+  // 16 float ulps per component (about twenty operations of half an ulp each, and series
+  // truncated below an ulp), far below what a wrong branch or a division by sin Ω would give.
   test::Random rng(8);
   std::vector<Quaternion<float>> a, b;
   for (int k = 0; k < 1000; ++k) a.push_back(rng.rotation<float>()), b.push_back(rng.rotation<float>());
@@ -486,8 +486,8 @@ TEST(Simd, SclerpOverArraysHasNoFailureCaseAndFloatAccuracy) {
   // bench/interpolation_accuracy (relative rotations from 1e-25 rad to within 1e-8 of π, b and
   // −b, translations from 1e-3 to 1e3, screws about axes up to 1e3 from the origin): at most 3.1
   // ulps in the real part and 6.1 in the dual part, against 3.2 and 6.4 for dq::sclerp<float>
-  // itself (the scalar target, held to the same bound here). A wrong branch, a division by a vanishing sin Ω or a lost screw pitch gives
-  // errors of order one.
+  // itself (the scalar target, held to the same bound here). A wrong branch, a division by a
+  // vanishing sin Ω or a lost screw pitch gives errors of order one.
   const ScrewPairs pairs;
   const std::size_t n = pairs.a.size();
   const Batch qa(pairs.a), qb(pairs.b);
