@@ -485,7 +485,7 @@ TEST(Simd, SclerpOverArraysHasNoFailureCaseAndFloatAccuracy) {
   // polynomials truncated below an ulp); measured on 16.8 million random pairs and t by
   // bench/interpolation_accuracy (relative rotations from 1e-25 rad to within 1e-8 of π, b and
   // −b, translations from 1e-3 to 1e3, screws about axes up to 1e3 from the origin): at most 3.1
-  // ulps in the real part and 6.1 in the dual part, against 3.2 and 6.4 for dq::sclerp<float>
+  // ulps in the real part and 6.0 in the dual part, against 3.2 and 6.4 for dq::sclerp<float>
   // itself (the scalar target, held to the same bound here). A wrong branch, a division by a
   // vanishing sin Ω or a lost screw pitch gives errors of order one.
   const ScrewPairs pairs;

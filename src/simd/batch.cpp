@@ -315,8 +315,9 @@ struct Slerp {
 
 /// Screw linear interpolation, dq::sclerp(a, b, t), for t in [0, 1], branch-free. The relative
 /// motion d = a* b on the shortest path (negated where its real part's w < 0, as dq::sclerp
-/// chooses), scaled so that its real part p = (w, v) is unit: w = cos Ω, |v| = sin Ω with the half
-/// angle Ω ∈ [0, π/2], and its translation τ = 2 vec(q_d p*). Its screw motion at t, d^t:
+/// chooses); below, p = (w, v) is its real part scaled to unit (the code scales only what needs it):
+/// w = cos Ω, |v| = sin Ω with the half angle Ω ∈ [0, π/2], and its translation τ = 2 vec(q_d p*).
+/// Its screw motion at t, d^t:
 ///  - rotation p^t = (cos tΩ, v (Ω/|v|) t sinc tΩ), from the series in (tΩ)² as slerp's;
 ///  - translation τ(t) = t τ∥ + κ Rot_u(φ) τ⊥, with τ∥ = (τ · u) u along the axis u = v/|v| and
 ///    τ⊥ = τ − τ∥ across it: the part across is (I − R_t)c for the point c of the screw axis, and
@@ -339,11 +340,15 @@ struct Sclerp {
     const DualQuaternion<V> qa = load8<N>(a, i);
     DualQuaternion<V> d = product(qa.conjugate(), load8<N>(b, i));
     d = negate_where_negative(d.real.w, d);
-    d = d * (one / sqrt(dot(d.real, d.real)));
-    const V w = d.real.w;
+    // Ω/|v| from d as it is, its norm n entering omega_over_sine (so the normalization is off
+    // the chain, as in slerp): v·(Ω/|v|) and |v|·(Ω/|v|) do not depend on n. What needs the
+    // unit motion, cos Ω, sin Ω and the translation, takes d scaled by 1/n.
+    const V n = sqrt(dot(d.real, d.real));
     const Vec3<V> v = d.real.vec();
     const V s = sqrt(dot(v, v));
-    const V omega_over_s = omega_over_sine(w, s, one);
+    const V omega_over_s = omega_over_sine(d.real.w, s, n);
+    const V over_n = one / n;
+    const V w = d.real.w * over_n, sin_omega = s * over_n;
     // The rotation p^t, and h = tΩ.
     const V scale = omega_over_s * tt;
     const Vec3<V> vt = v * scale;
@@ -352,20 +357,20 @@ struct Sclerp {
     const V sin_h = (s * scale) * sinc_h;
     const Quaternion<V> rotation(cos_h, vt * sinc_h);
     // The translation τ(t).
-    const Vec3<V> tau = d.translation();
+    const Vec3<V> tau = (d * over_n).translation();
     const Vec3<V> u = v / select_less(zero, s, s, one);
     const V along = dot(tau, u);
     const Vec3<V> across = tau - u * along;
-    const V cos_phi = cos_h * w + sin_h * s, sin_phi = sin_h * w - cos_h * s;
-    const V kappa = (tt * sinc_h) * omega_over_s;
+    const V cos_phi = cos_h * w + sin_h * sin_omega, sin_phi = sin_h * w - cos_h * sin_omega;
+    const V kappa = (tt * sinc_h) * (omega_over_s * n);  // Ω/sin Ω = n Ω/|v|
     const Vec3<V> tau_t = u * (along * tt) + (across * cos_phi + cross(u, across) * sin_phi) * kappa;
     const DualQuaternion<V> motion = DualQuaternion<V>::from_rotation_translation(rotation, tau_t);
     // Renormalized as dq::sclerp does: the real part divided by its norm, the dual part's component
     // along it removed (the regular path of DualQuaternion::normalized; the product of unit inputs
     // needs no other, and this is not bit-identical to dq::sclerp anyway).
     const DualQuaternion<V> m = product(qa, motion);
-    const V n = sqrt(m.real.squared_norm());
-    const Quaternion<V> r = m.real / n, dual = m.dual / n;
+    const V norm_m = sqrt(m.real.squared_norm());
+    const Quaternion<V> r = m.real / norm_m, dual = m.dual / norm_m;
     store8<N>(out, i, DualQuaternion<V>(r, dual - r * dot(r, dual)));
   }
 #endif

@@ -135,7 +135,7 @@ void dlb(ConstRows a, ConstRows b, float t, Rows out, std::size_t n);
 /// renormalized as dq::sclerp is; other t (extrapolation) run dq::sclerp itself. Not bit-identical
 /// to dq::sclerp: against it in long double, within 8 float ulps of 1 in the real part and 8 ulps
 /// of (1 + |t_a| + |t_b|)/2 in the dual part (t_a, t_b the inputs' translations), tested; at most
-/// 3.1 and 6.1 measured by bench/interpolation_accuracy on 16.8 million random pairs and t,
+/// 3.1 and 6.0 measured by bench/interpolation_accuracy on 16.8 million random pairs and t,
 /// dq::sclerp<float> 3.2 and 6.4.
 /// Precondition: unit inputs (to float rounding, as products of unit dual quaternions are); the
 /// relative motion is rescaled to a unit real part, so slightly drifted inputs give a slightly
