@@ -29,6 +29,7 @@
 #include "dq/simd/batch.hpp"
 #include "dq/simd/pose_blocks.hpp"
 #include "dq/util/component_arrays.hpp"
+#include "agreement.hpp"
 #include "machine.hpp"
 
 namespace {
@@ -40,6 +41,7 @@ using namespace dq;
 using bench::dram_floats;
 using bench::Copy;
 using bench::Triad;
+using bench::same_transform;
 
 double& copy_bandwidth() {  // bytes/s of the one-thread copy, measured first (the roofline's roof)
   static double b = 0;
@@ -73,6 +75,9 @@ void PeakFma(benchmark::State& state) {
 // ---- forward kinematics of many skeletons ------------------------------------------------------------
 
 constexpr std::size_t kJoints = 64;
+/// The peers' FK results against dqkit's: chains at most 8 joints deep below the root, random unit
+/// translations; float rounding of about 1e-6 with room, far below what a wrong parent or product gives.
+constexpr double kFkTolerance = 1e-4;
 
 /// A 64-joint tree (parents before children, branching like a character) and random local poses.
 struct Skeletons {
@@ -185,18 +190,6 @@ void compose_into(E& model, const E& parent, const E& local) {
   else
     model = parent * local;
 }
-/// Whether an Eigen transform is dqkit's transform `q`: the translation to `tolerance` (relative to
-/// 1 + its length), the rotation matrix's entries to a tenth of it (float rounding with room).
-template <class E>
-bool same_model(const E& e, const DualQuaternion<float>& q, float tolerance = 1e-3f) {
-  const Eigen::Isometry3f iso(Eigen::Matrix4f(e.matrix()));
-  const Eigen::Vector3f t = iso.translation();
-  return (t - eigen::to_eigen(q.translation())).norm() <= tolerance * (1 + t.norm()) &&
-         (iso.linear() - eigen::to_eigen(q.real).toRotationMatrix()).cwiseAbs().maxCoeff() <= tolerance / 10;
-}
-bool same_model(const DualQuaternion<float>& x, const DualQuaternion<float>& q, float tolerance = 1e-3f) {
-  return same_model(eigen::to_isometry(x), q, tolerance);
-}
 /// What users of Eigen write: each skeleton's poses as Isometry3f (or its 4x4 matrix as
 /// Matrix4f, whose product Eigen vectorizes: Isometry3f's composes a 3x3 block and a vector),
 /// pose by pose.
@@ -227,7 +220,7 @@ void FkEigenPerPose(benchmark::State& state) {
   const auto got = s.model.view();
   for (std::size_t p = 0; p < poses; p += poses / 7)
     for (std::size_t j = 0; j < kJoints; ++j)
-      if (!same_model(model[p * kJoints + j], got.get(j, p))) return state.SkipWithError("Eigen and dqkit disagree");
+      if (!same_transform(model[p * kJoints + j], got.get(j, p), kFkTolerance)) return state.SkipWithError("Eigen and dqkit disagree");
   report_fk(state, poses, 2.0 * sizeof(E));
 }
 
@@ -251,7 +244,7 @@ void FkOneSkeleton(benchmark::State& state, Make make) {
   }
   s.job().run();
   for (std::size_t j = 0; j < kJoints; ++j)
-    if (!same_model(model[j], s.model.view().get(j, 0))) return state.SkipWithError("the skeleton's model transforms differ from dqkit's job");
+    if (!same_transform(model[j], s.model.view().get(j, 0), kFkTolerance)) return state.SkipWithError("the skeleton's model transforms differ from dqkit's job");
   state.counters["joints_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * kJoints), benchmark::Counter::kIsRate);
 }
 void FkOneSkeletonDualQuaternion(benchmark::State& s) {
@@ -393,8 +386,8 @@ void ComposeDispatched(benchmark::State& state) {
 }
 /// A peer's products x[i] · x[i] over the arrays, each of its transforms made once by `make` and
 /// composed by `compose(out, a, b)`, checked once against dqkit's products (every 97th).
-template <class M, class Make, class Compose, class Read>
-void ComposePeer(benchmark::State& state, Make make, Compose compose, Read read) {
+template <class M, class Make, class Compose>
+void ComposePeer(benchmark::State& state, Make make, Compose compose) {
   Arrays& a = arrays(size_of(state));
   const std::size_t n = a.dq.size();
   std::vector<M> x;
@@ -407,18 +400,17 @@ void ComposePeer(benchmark::State& state, Make make, Compose compose, Read read)
     benchmark::ClobberMemory();
   }
   for (std::size_t i = 0; i < n; i += 97)
-    if (!same_model(read(out[i]), a.dq[i] * a.dq[i], 1e-4f)) return state.SkipWithError("the peer's products differ from dqkit's");
+    if (!same_transform(out[i], a.dq[i] * a.dq[i], 1e-4)) return state.SkipWithError("the peer's products differ from dqkit's");
   state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
 }
 void ComposeGlmDualquat(benchmark::State& state) {
   ComposePeer<glm::dualquat>(
       state, [](const DualQuaternion<float>& q) { return glm_interop::to_glm(q); },
-      [](glm::dualquat& out, const glm::dualquat& a, const glm::dualquat& b) { out = a * b; },
-      [](const glm::dualquat& q) { return eigen::to_isometry(glm_interop::from_glm(q)).matrix(); });
+      [](glm::dualquat& out, const glm::dualquat& a, const glm::dualquat& b) { out = a * b; });
 }
 template <class E>
 void ComposeEigen(benchmark::State& state) {
-  ComposePeer<E>(state, to_eigen_transform<E>, compose_into<E>, [](const E& e) { return Eigen::Matrix4f(e.matrix()); });
+  ComposePeer<E>(state, to_eigen_transform<E>, compose_into<E>);
 }
 
 // ---- inverse, directions, normalize, dlb, sclerp over arrays -------------------------------------------
@@ -499,12 +491,6 @@ void run_peer(benchmark::State& state, F f, Kernel kernel, Same same) {
   for (std::size_t i = 0; i < KernelArrays::n; ++i)
     if (!same(i, out[i])) return state.SkipWithError("the peer and dqkit's kernel disagree");
   state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * KernelArrays::n), benchmark::Counter::kIsRate);
-}
-/// Rotations equal and translations equal to float rounding (GLM's normalization leaves the dual
-/// part's component along the real part, which changes neither).
-bool same_transform(const DualQuaternion<float>& x, const DualQuaternion<float>& y) {
-  const float tolerance = 1e-5f * (1 + norm(y.translation()));
-  return approx_equal(x.real, y.real, 1e-5f) && norm(x.translation() - y.translation()) <= tolerance;
 }
 std::vector<glm::dualquat> to_glm(const std::vector<DualQuaternion<float>>& q) {
   std::vector<glm::dualquat> g;
@@ -598,7 +584,7 @@ void DlbGlmDualquat(benchmark::State& state) {
   run_peer<glm::dualquat>(
       state, [&](std::size_t i) { return glm::normalize(glm::lerp(a[i], b[i], kBlendT)); },
       [&] { k.dlb(); },
-      [&](std::size_t i, const glm::dualquat& g) { return same_transform(glm_interop::from_glm(g), k.result(i)); });
+      [&](std::size_t i, const glm::dualquat& g) { return same_transform(g, k.result(i), 1e-5); });
 }
 
 void SclerpDispatched(benchmark::State& state) {

@@ -13,8 +13,11 @@
 #include "dq/dq.hpp"
 #include "dq/interop/eigen.hpp"
 #include "dq/interop/glm.hpp"
+#include "agreement.hpp"
 
 namespace {
+
+using dq::bench::same_transform;
 
 constexpr std::size_t kCount = 1024;
 
@@ -38,38 +41,6 @@ std::vector<dq::Vec3<T>> random_points(unsigned seed) {
   return out;
 }
 
-// ---- every library's transform as a dqkit 4x4 matrix in double, for the checks outside timing ----
-template <class T>
-dq::Mat4<double> as_mat4(const dq::DualQuaternion<T>& x) { return dq::to_mat4(x.template cast<double>()); }
-template <class T>
-dq::Mat4<double> as_mat4(const glm::tdualquat<T>& x) { return as_mat4(dq::glm_interop::from_glm(x)); }
-/// Any matrix read element by element through `at(r, c)`; rows past its last are (0, 0, 0, 1).
-template <int Rows, class At>
-dq::Mat4<double> read_mat4(At at) {
-  dq::Mat4<double> out = dq::Mat4<double>::identity();
-  for (int r = 0; r < Rows; ++r)
-    for (int c = 0; c < 4; ++c) out(r, c) = double(at(r, c));
-  return out;
-}
-template <class T>
-dq::Mat4<double> as_mat4(const dq::Mat4<T>& x) { return read_mat4<4>([&](int r, int c) { return x(r, c); }); }
-template <class T>
-dq::Mat4<double> as_mat4(const dq::Mat34<T>& x) { return read_mat4<3>([&](int r, int c) { return x(r, c); }); }
-template <class T>
-dq::Mat4<double> as_mat4(const glm::mat<4, 4, T>& x) { return read_mat4<4>([&](int r, int c) { return x[c][r]; }); }
-template <class T>
-dq::Mat4<double> as_mat4(const Eigen::Matrix<T, 4, 4>& x) { return read_mat4<4>([&](int r, int c) { return x(r, c); }); }
-template <class T>
-dq::Mat4<double> as_mat4(const Eigen::Transform<T, 3, Eigen::Isometry>& x) { return as_mat4(Eigen::Matrix<T, 4, 4>(x.matrix())); }
-/// Whether `got` is the transform `expected` to within `tolerance` in every entry.
-template <class M>
-bool same_transform(const M& got, const dq::DualQuaternion<double>& expected, double tolerance) {
-  const dq::Mat4<double> g = as_mat4(got), e = dq::to_mat4(expected);
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c)
-      if (!(std::abs(g(r, c) - e(r, c)) <= tolerance)) return false;
-  return true;
-}
 /// Checks once, outside the timing, that out[i] is a[i] · b[i] as dqkit computes it in double
 /// (translations of about unit size: 1e-4 is float rounding with room, far below any error).
 template <class T, class M>
