@@ -426,8 +426,8 @@ struct KernelArrays {
   ComponentArrays<float, 8> a{n}, b{n}, scaled{n}, out{n};
   ComponentArrays<float, 3> v{n};
   ComponentArrays<float, 12> matrix{n};
-  std::vector<DualQuaternion<float>> dq_a, dq_b, dq_scaled;
-  KernelArrays() {
+  std::vector<DualQuaternion<float>> dq_a, dq_b, dq_scaled, dq_out;
+  KernelArrays() : dq_out(n) {
     std::mt19937 rng(5);
     std::normal_distribution<float> g;
     std::uniform_real_distribution<float> s(0.5f, 2.0f);
@@ -435,11 +435,8 @@ struct KernelArrays {
       return DualQuaternion<float>::from_rotation_translation(Quaternion<float>(g(rng), g(rng), g(rng), g(rng)).normalized(), {g(rng), g(rng), g(rng)});
     };
     for (std::size_t i = 0; i < n; ++i) dq_a.push_back(random_transform()), dq_b.push_back(random_transform()), dq_scaled.push_back(dq_a[i] * s(rng));
-    auto soa = [](ComponentArrays<float, 8>& c, const std::vector<DualQuaternion<float>>& q) {
-      for (std::size_t k = 0; k < 8; ++k)
-        for (std::size_t i = 0; i < q.size(); ++i) c[k][i] = (&q[i].real.w)[k];
-    };
-    soa(a, dq_a), soa(b, dq_b), soa(scaled, dq_scaled), soa(out, dq_a);
+    simd::to_rows(dq_a, simd::rows(a)), simd::to_rows(dq_b, simd::rows(b)), simd::to_rows(dq_scaled, simd::rows(scaled));
+    simd::to_rows(dq_a, simd::rows(out));
     for (std::size_t k = 0; k < 3; ++k)
       for (std::size_t i = 0; i < n; ++i) v[k][i] = g(rng);
   }
@@ -455,6 +452,8 @@ struct KernelArrays {
   void normalize() { simd::normalize(simd::rows(scaled), simd::rows(out), n); }
   void dlb() { simd::dlb(simd::rows(a), simd::rows(b), kBlendT, simd::rows(out), n); }
   void sclerp() { simd::sclerp(simd::rows(a), simd::rows(b), kBlendT, simd::rows(out), n); }
+  void to_rows() { simd::to_rows(dq_a, simd::rows(out)); }
+  void from_rows() { simd::from_rows(simd::rows(a), dq_out); }
   // Only in OnTarget (their own cases run on the Arrays and SlerpArrays above).
   void compose() { simd::compose(simd::rows(a), simd::rows(b), simd::rows(out), n); }
   void points() { simd::transform_points(simd::rows(a), {v[0].data(), v[1].data(), v[2].data()}, {out[0].data(), out[1].data(), out[2].data()}, n); }
@@ -600,6 +599,40 @@ void SclerpScalar(benchmark::State& state) {
       [&](std::size_t i, const DualQuaternion<float>& q) { return approx_equal(q, k.result(i), 1e-5f * (1 + norm(q.translation()))); });
 }
 
+// The layout conversions, against the loops users write: each element's eight floats to or from
+// the eight arrays, component by component.
+void ToRowsDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] { k.to_rows(); });
+}
+void ToRowsLoop(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  ComponentArrays<float, 8> out(KernelArrays::n);
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < KernelArrays::n; ++i) {
+      const DualQuaternion<float>& q = k.dq_a[i];
+      out[0][i] = q.real.w, out[1][i] = q.real.x, out[2][i] = q.real.y, out[3][i] = q.real.z;
+      out[4][i] = q.dual.w, out[5][i] = q.dual.x, out[6][i] = q.dual.y, out[7][i] = q.dual.z;
+    }
+    benchmark::DoNotOptimize(out[0].data());
+    benchmark::ClobberMemory();
+  }
+  k.to_rows();
+  for (std::size_t c = 0; c < 8; ++c)
+    if (!std::equal(out[c].begin(), out[c].end(), k.out[c].begin())) return state.SkipWithError("the loop and dqkit's conversion disagree");
+  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * KernelArrays::n), benchmark::Counter::kIsRate);
+}
+void FromRowsDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] { k.from_rows(); });
+}
+void FromRowsLoop(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_peer<DualQuaternion<float>>(
+      state, [&](std::size_t i) { return DualQuaternion<float>(k.a[0][i], k.a[1][i], k.a[2][i], k.a[3][i], k.a[4][i], k.a[5][i], k.a[6][i], k.a[7][i]); },
+      [&] { k.from_rows(); }, [&](std::size_t i, const DualQuaternion<float>& q) { return q == k.dq_out[i]; });
+}
+
 /// A dispatched kernel on the hot arrays with the instruction set forced (simd::ScopedTarget): what
 /// each target brings, measured in one run. Registered in main for every target this CPU has.
 void OnTarget(benchmark::State& state, void (KernelArrays::*kernel)(), simd::Target target) {
@@ -611,7 +644,8 @@ void register_on_target() {
   const std::pair<const char*, void (KernelArrays::*)()> kernels[] = {
       {"compose", &KernelArrays::compose},         {"inverse", &KernelArrays::inverse},     {"transform_points", &KernelArrays::points},
       {"transform_directions", &KernelArrays::directions}, {"to_matrices", &KernelArrays::to_matrices}, {"normalize", &KernelArrays::normalize},
-      {"slerp", &KernelArrays::slerp},             {"dlb", &KernelArrays::dlb},             {"sclerp", &KernelArrays::sclerp}};
+      {"slerp", &KernelArrays::slerp},             {"dlb", &KernelArrays::dlb},             {"sclerp", &KernelArrays::sclerp},
+      {"to_rows", &KernelArrays::to_rows},         {"from_rows", &KernelArrays::from_rows}};
   for (const auto& [name, kernel] : kernels)
     for (simd::Target target : simd::available_targets())
       benchmark::RegisterBenchmark(("OnTarget/" + std::string(name) + "/" + std::string(simd::to_string(target))).c_str(), OnTarget, kernel, target);
@@ -666,3 +700,7 @@ BENCHMARK(DlbDispatched);
 BENCHMARK(DlbGlmDualquat);
 BENCHMARK(SclerpDispatched);
 BENCHMARK(SclerpScalar);
+BENCHMARK(ToRowsDispatched);
+BENCHMARK(ToRowsLoop);
+BENCHMARK(FromRowsDispatched);
+BENCHMARK(FromRowsLoop);

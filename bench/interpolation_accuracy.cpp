@@ -30,6 +30,7 @@
 
 #include "dq/dq.hpp"
 #include "dq/simd/batch.hpp"
+#include "interpolation_reference.hpp"  // tests/
 
 namespace {
 
@@ -103,10 +104,8 @@ struct Pairs {
       const DualQuaternion<float> ra = DualQuaternion<float>::from_rotation_translation(rng.rotation(), rng.direction() * static_cast<float>(rng.log_uniform(-3, 3)));
       const DualQuaternion<float> rb0 = ra * screw, rb = rng.coin() ? -rb0 : rb0;
       da.push_back(ra), db.push_back(rb);
-      const DualQuaternion<float> rbf = (ra.conjugate() * rb).real.w < 0.0f ? -rb : rb;
-      const DualQuaternion<long double> ral = ra.cast<long double>(), rbl = rbf.cast<long double>();
-      sclerp_want.push_back(sclerp(ral, rbl, static_cast<long double>(t), (ral.conjugate() * rbl).real.w < 0 ? Path::longest : Path::shortest));
-      scale.push_back((1 + norm(ral.translation()) + norm(rb.cast<long double>().translation())) / 2);
+      sclerp_want.push_back(test::sclerp_reference(ra, rb, t));
+      scale.push_back((1 + norm(ra.cast<long double>().translation()) + norm(rb.cast<long double>().translation())) / 2);
     }
   }
 };
@@ -146,6 +145,8 @@ int main(int argc, char** argv) {
   Pairs p;
   ComponentArrays<float, 4> qa(kBlock), qb(kBlock), q_out(kBlock);
   ComponentArrays<float, 8> da(kBlock), db(kBlock), d_out(kBlock);
+  std::vector<Quaternion<float>> q_got(kBlock);
+  std::vector<DualQuaternion<float>> d_got(kBlock);
   const std::size_t blocks = (pairs + kBlock - 1) / kBlock;
   for (std::size_t block = 0; block < blocks; ++block) {
     const float t = block == 0 ? 0.0f : block == 1 ? 1.0f : static_cast<float>(rng.uniform(rng.engine));
@@ -154,22 +155,16 @@ int main(int argc, char** argv) {
       record_quaternion(slerp_worst[0], slerp(p.qa[i], p.qb[i], t), p.slerp_want[i]);
       record_dual_quaternion(sclerp_worst[0], sclerp(p.da[i], p.db[i], t), p.sclerp_want[i], p.scale[i]);
     }
-    for (std::size_t i = 0; i < kBlock; ++i) {
-      const float qa_i[4] = {p.qa[i].w, p.qa[i].x, p.qa[i].y, p.qa[i].z}, qb_i[4] = {p.qb[i].w, p.qb[i].x, p.qb[i].y, p.qb[i].z};
-      const float* da_i = &p.da[i].real.w;
-      const float* db_i = &p.db[i].real.w;
-      for (std::size_t k = 0; k < 4; ++k) qa[k][i] = qa_i[k], qb[k][i] = qb_i[k];
-      for (std::size_t k = 0; k < 8; ++k) da[k][i] = da_i[k], db[k][i] = db_i[k];
-    }
+    simd::to_rows(p.qa, quaternion_rows<float>(qa)), simd::to_rows(p.qb, quaternion_rows<float>(qb));
+    simd::to_rows(p.da, simd::rows(da)), simd::to_rows(p.db, simd::rows(db));
     for (std::size_t k = 0; k < targets.size(); ++k) {
       const simd::ScopedTarget scope(targets[k]);
       simd::slerp(quaternion_rows<const float>(qa), quaternion_rows<const float>(qb), t, quaternion_rows<float>(q_out), kBlock);
-      for (std::size_t i = 0; i < kBlock; ++i) record_quaternion(slerp_worst[k + 1], {q_out[0][i], q_out[1][i], q_out[2][i], q_out[3][i]}, p.slerp_want[i]);
+      simd::from_rows(quaternion_rows<const float>(q_out), q_got);
+      for (std::size_t i = 0; i < kBlock; ++i) record_quaternion(slerp_worst[k + 1], q_got[i], p.slerp_want[i]);
       simd::sclerp(simd::rows(std::as_const(da)), simd::rows(std::as_const(db)), t, simd::rows(d_out), kBlock);
-      for (std::size_t i = 0; i < kBlock; ++i) {
-        const DualQuaternion<float> got(d_out[0][i], d_out[1][i], d_out[2][i], d_out[3][i], d_out[4][i], d_out[5][i], d_out[6][i], d_out[7][i]);
-        record_dual_quaternion(sclerp_worst[k + 1], got, p.sclerp_want[i], p.scale[i]);
-      }
+      simd::from_rows(simd::rows(std::as_const(d_out)), d_got);
+      for (std::size_t i = 0; i < kBlock; ++i) record_dual_quaternion(sclerp_worst[k + 1], d_got[i], p.sclerp_want[i], p.scale[i]);
     }
   }
   std::printf("%zu pairs (seed %llu), worst error in float ulps against long double\n\n", blocks * kBlock, seed);

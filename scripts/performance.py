@@ -309,6 +309,8 @@ def main(results):
         ("Normalize", (("NormalizeGlmDualquat", "GLM `normalize(dualquat)` (leaves q_r · q_d ≠ 0)"),)),
         ("Dlb", (("DlbGlmDualquat", "GLM `normalize(lerp(a, b, t))`"),)),
         ("Sclerp", (("SclerpScalar", "dqkit's scalar `dq::sclerp` per element (no peer has sclerp)"),)),
+        ("ToRows", (("ToRowsLoop", "the loop users write, component by component"),)),
+        ("FromRows", (("FromRowsLoop", "the loop users write, component by component"),)),
     ):
         mine = b[kernel + "Dispatched"]["per_s"]
         for peer, label in peers:

@@ -5,10 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <random>
 #include <string>
 #include <tuple>
@@ -16,6 +19,8 @@
 #include <vector>
 
 #include "dq/simd/batch.hpp"
+#include "dq/util/component_arrays.hpp"
+#include "interpolation_reference.hpp"
 #include "simd_targets.hpp"
 #include "support.hpp"
 
@@ -467,15 +472,7 @@ struct ScrewPairs {
   }
 };
 
-/// dq::sclerp in long double on the same float inputs, on the arc dq::sclerp<float> (and the
-/// kernel) chooses: by the sign of the float relative rotation's w. Where that w is within
-/// rounding of 0 (rotations π apart) long double could choose the other arc.
-DualQuaternion<long double> sclerp_reference(const DualQuaternion<float>& a, const DualQuaternion<float>& b, float t) {
-  const bool flip = (a.conjugate() * b).real.w < 0.0f;
-  const DualQuaternion<long double> al = a.cast<long double>(), bl = (flip ? -b : b).cast<long double>();
-  const bool long_way = (al.conjugate() * bl).real.w < 0.0L;  // the arc of bl as given (w within rounding of 0)
-  return sclerp(al, bl, static_cast<long double>(t), long_way ? Path::longest : Path::shortest);
-}
+using test::sclerp_reference;
 
 TEST(Simd, SclerpOverArraysHasNoFailureCaseAndFloatAccuracy) {
   // Reference: dq::sclerp in long double. Bound: 8 float ulps (8 ε) in each real-part component,
@@ -569,6 +566,85 @@ TEST(Simd, SclerpTailsInPlaceAndExtrapolation) {
     Batch out(qa.size(), 24);
     simd::sclerp(qa.rows(), qb.rows(), std::numeric_limits<float>::quiet_NaN(), out.rows(), qa.size());
     for (std::size_t i = 0; i < qa.size(); ++i) ASSERT_TRUE(std::isnan(out.get(i).real.w) && std::isnan(out.get(i).dual.x)) << i;
+  });
+}
+
+/// Layout conversions of elements of C floats (E: DualQuaternion, Quaternion or Vec3 of float)
+/// on every target: every bit copied (random bit patterns: NaNs with payloads, infinities,
+/// subnormals, signed zeros), element i's float c is array c's value i, for every n (tails, 0),
+/// and nothing past n or outside the arrays written. `rows` makes the kernels' rows from C array
+/// starts; `to` and `from` call the conversions.
+template <class E, std::size_t C, class Rows, class To, class From>
+void check_layout_conversion(Rows rows, To to, From from) {
+  static_assert(sizeof(E) == C * sizeof(float));
+  constexpr std::size_t kMax = 1003, kGuard = 16;
+  const std::uint32_t sentinel = 0x7fc0dead;  // a NaN with a payload (not among the draws: asserted)
+  std::mt19937 rng(31 + C);
+  auto random_bits = [&] {
+    std::vector<std::uint32_t> b(C * kMax);
+    for (auto& x : b) x = static_cast<std::uint32_t>(rng());
+    return b;
+  };
+  const std::vector<std::uint32_t> bits = random_bits();
+  ASSERT_EQ(std::count(bits.begin(), bits.end(), sentinel), 0);
+  std::vector<E> aos(kMax);
+  std::memcpy(static_cast<void*>(aos.data()), bits.data(), C * kMax * sizeof(float));
+  for_each_target([&](Target) {
+    for (const std::size_t n : kSizes) {
+      // Arrays of structures to component arrays: each array with guards before and after.
+      std::vector<std::vector<std::uint32_t>> arrays(C, std::vector<std::uint32_t>(kMax + 2 * kGuard, sentinel));
+      std::array<float*, C> starts;
+      for (std::size_t c = 0; c < C; ++c) starts[c] = reinterpret_cast<float*>(arrays[c].data() + kGuard);
+      to(std::span<const E>(aos.data(), n), rows(starts));
+      for (std::size_t c = 0; c < C; ++c)
+        for (std::size_t i = 0; i < kMax + 2 * kGuard; ++i) {
+          const bool inside = i >= kGuard && i < kGuard + n;
+          ASSERT_EQ(arrays[c][i], inside ? bits[C * (i - kGuard) + c] : sentinel) << "to_rows, n " << n << " array " << c << " index " << i;
+        }
+      // And back, into a span with elements before and after it.
+      std::vector<std::uint32_t> back(C * (kMax + 2), sentinel);
+      std::array<const float*, C> in;
+      for (std::size_t c = 0; c < C; ++c) in[c] = starts[c];
+      from(rows(in), std::span<E>(reinterpret_cast<E*>(back.data()) + 1, n));
+      for (std::size_t k = 0; k < back.size(); ++k) {
+        const bool inside = k >= C && k < C * (n + 1);
+        ASSERT_EQ(back[k], inside ? bits[k - C] : sentinel) << "from_rows, n " << n << " float " << k;
+      }
+    }
+  });
+}
+
+TEST(Simd, LayoutConversionsCopyEveryBitAndNothingElse) {
+  check_layout_conversion<DualQuaternion<float>, 8>(
+      []<class F>(const std::array<F*, 8>& a) { return detail::Row8<F>{a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]}; },
+      [](std::span<const DualQuaternion<float>> in, simd::Rows out) { simd::to_rows(in, out); },
+      [](simd::ConstRows in, std::span<DualQuaternion<float>> out) { simd::from_rows(in, out); });
+  check_layout_conversion<Quaternion<float>, 4>(
+      []<class F>(const std::array<F*, 4>& a) { return simd::QuaternionRows<F>{a[0], a[1], a[2], a[3]}; },
+      [](std::span<const Quaternion<float>> in, simd::QuaternionRows<float> out) { simd::to_rows(in, out); },
+      [](simd::QuaternionRows<const float> in, std::span<Quaternion<float>> out) { simd::from_rows(in, out); });
+  check_layout_conversion<Vec3<float>, 3>(
+      []<class F>(const std::array<F*, 3>& a) { return a; },
+      [](std::span<const Vec3<float>> in, std::array<float*, 3> out) { simd::to_rows(in, out); },
+      [](std::array<const float*, 3> in, std::span<Vec3<float>> out) { simd::from_rows(in, out); });
+}
+
+TEST(Simd, LayoutConversionsFeedTheKernels) {
+  // What the conversions are for: arrays of dual quaternions and points in, through the kernels,
+  // and out again, equal to the scalar functions element by element.
+  test::Random rng(41);
+  std::vector<DualQuaternion<float>> q(517);
+  std::vector<Vec3<float>> p(q.size());
+  for (std::size_t i = 0; i < q.size(); ++i) q[i] = rng.rigid<float>(5), p[i] = rng.vec3<float>(3);
+  for_each_target([&](Target) {
+    ComponentArrays<float, 8> rows_q(q.size());
+    ComponentArrays<float, 3> rows_p(p.size());
+    simd::to_rows(q, simd::rows(rows_q));
+    simd::to_rows(p, rows_p.data());
+    simd::transform_points(simd::rows(std::as_const(rows_q)), std::as_const(rows_p).data(), rows_p.data(), p.size());
+    std::vector<Vec3<float>> moved(p.size());
+    simd::from_rows(std::as_const(rows_p).data(), moved);
+    for (std::size_t i = 0; i < p.size(); ++i) ASSERT_TRUE(same_bits(moved[i], q[i].transform_point(p[i]))) << i;
   });
 }
 

@@ -9,7 +9,7 @@
 #include "dq/convert/matrix.hpp"
 #include "dq/simd/batch.hpp"
 #include "dq/util/assert.hpp"
-#include "../simd/vector_types.hpp"
+#include "../simd/records.hpp"
 
 namespace dq {
 
@@ -308,32 +308,6 @@ void skin_scalar_slots(const Streams& s, std::size_t b, std::size_t e) {
 // Palette entries are loaded per lane (one vector load of a bone's record) and transposed to
 // component vectors with shuffles: no gathers.
 
-// Shuffles within each 128-bit block (unpcklps, unpckhps, movlhps, movhlps per block).
-#define DQKIT_IN_BLOCKS(name, i0, i1, i2, i3)                                                                              \
-  [[gnu::always_inline]] inline float4 name(float4 a, float4 b) { return __builtin_shufflevector(a, b, i0, i1, i2, i3); } \
-  [[gnu::always_inline]] inline float8 name(float8 a, float8 b) {                                                        \
-    return __builtin_shufflevector(a, b, i0 + (i0 < 4 ? 0 : 4), i1 + (i1 < 4 ? 0 : 4), i2 + (i2 < 4 ? 0 : 4), i3 + (i3 < 4 ? 0 : 4), \
-                                   i0 + (i0 < 4 ? 4 : 8), i1 + (i1 < 4 ? 4 : 8), i2 + (i2 < 4 ? 4 : 8), i3 + (i3 < 4 ? 4 : 8)); \
-  }                                                                                                                      \
-  [[gnu::always_inline]] inline float16 name(float16 a, float16 b) {                                                     \
-    return __builtin_shufflevector(a, b, i0 + (i0 < 4 ? 0 : 12), i1 + (i1 < 4 ? 0 : 12), i2 + (i2 < 4 ? 0 : 12), i3 + (i3 < 4 ? 0 : 12), \
-                                   i0 + (i0 < 4 ? 4 : 16), i1 + (i1 < 4 ? 4 : 16), i2 + (i2 < 4 ? 4 : 16), i3 + (i3 < 4 ? 4 : 16), \
-                                   i0 + (i0 < 4 ? 8 : 20), i1 + (i1 < 4 ? 8 : 20), i2 + (i2 < 4 ? 8 : 20), i3 + (i3 < 4 ? 8 : 20), \
-                                   i0 + (i0 < 4 ? 12 : 24), i1 + (i1 < 4 ? 12 : 24), i2 + (i2 < 4 ? 12 : 24), i3 + (i3 < 4 ? 12 : 24)); \
-  }
-DQKIT_IN_BLOCKS(unpack_low, 0, 4, 1, 5)
-DQKIT_IN_BLOCKS(unpack_high, 2, 6, 3, 7)
-DQKIT_IN_BLOCKS(low_halves, 0, 1, 4, 5)
-DQKIT_IN_BLOCKS(high_halves, 2, 3, 6, 7)
-#undef DQKIT_IN_BLOCKS
-
-/// Transposes four rows within each 128-bit block: out[c] block g holds component c of the four rows' block g.
-template <class F>
-[[gnu::always_inline]] inline void transpose4_in_blocks(const F* r, F* out) {
-  const F t0 = unpack_low(r[0], r[1]), t1 = unpack_high(r[0], r[1]), t2 = unpack_low(r[2], r[3]), t3 = unpack_high(r[2], r[3]);
-  out[0] = low_halves(t0, t2), out[1] = high_halves(t0, t2), out[2] = low_halves(t1, t3), out[3] = high_halves(t1, t3);
-}
-
 /// N vertices per call (N = 4, 8, 16).
 template <int N>
 struct VectorLanes {
@@ -341,49 +315,10 @@ struct VectorLanes {
   [[gnu::always_inline]] static V load(const float* p) { return load_as<V>(p); }
   [[gnu::always_inline]] static void store(float* p, V x) { std::memcpy(p, &x, sizeof x); }
   /// out[c] lane j = table[stride * bones[j] + offset + c] for c < C (C = 4 or 8): one load of C
-  /// floats per lane, then a transpose.
+  /// floats per lane, then a transpose (load_records).
   template <int C>
   [[gnu::always_inline]] static void rows(const float* table, std::size_t stride, const std::uint32_t* bones, std::size_t offset, V* out) {
-    auto entry = [&](int j) __attribute__((always_inline)) { return table + stride * bones[j] + offset; };
-    if constexpr (C == 4 || N == 4) {
-      // Rows of four: lane j's record in block j / 4 of row j % 4.
-      for (int half = 0; half < C / 4; ++half) {
-        V r[4];
-        for (int j = 0; j < 4; ++j) {
-          if constexpr (N == 4) {
-            r[j] = load_as<float4>(entry(j) + 4 * half);
-          } else if constexpr (N == 8) {
-            r[j] = __builtin_shufflevector(load_as<float4>(entry(j)), load_as<float4>(entry(j + 4)), 0, 1, 2, 3, 4, 5, 6, 7);
-          } else {
-            const float8 lo = __builtin_shufflevector(load_as<float4>(entry(j)), load_as<float4>(entry(j + 4)), 0, 1, 2, 3, 4, 5, 6, 7);
-            const float8 hi = __builtin_shufflevector(load_as<float4>(entry(j + 8)), load_as<float4>(entry(j + 12)), 0, 1, 2, 3, 4, 5, 6, 7);
-            r[j] = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-          }
-        }
-        transpose4_in_blocks(r, out + 4 * half);
-      }
-    } else {
-      // Eight components, N = 8 or 16: row j holds the records of lanes j (and j + 8), whose two
-      // blocks are components 0-3 and 4-7; transposed in blocks, then blocks regrouped across rows.
-      V r[8], u[8];
-      for (int j = 0; j < 8; ++j) {
-        if constexpr (N == 8)
-          r[j] = load_as<float8>(entry(j));
-        else
-          r[j] = __builtin_shufflevector(load_as<float8>(entry(j)), load_as<float8>(entry(j + 8)), 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-      }
-      transpose4_in_blocks(r, u);          // u[c]: components c | c + 4 of lanes 0-3 (| c, c + 4 of 8-11)
-      transpose4_in_blocks(r + 4, u + 4);  // the same for lanes 4-7 (and 12-15)
-      for (int c = 0; c < 4; ++c) {
-        if constexpr (N == 8) {
-          out[c] = __builtin_shufflevector(u[c], u[c + 4], 0, 1, 2, 3, 8, 9, 10, 11);
-          out[c + 4] = __builtin_shufflevector(u[c], u[c + 4], 4, 5, 6, 7, 12, 13, 14, 15);
-        } else {
-          out[c] = __builtin_shufflevector(u[c], u[c + 4], 0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
-          out[c + 4] = __builtin_shufflevector(u[c], u[c + 4], 4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
-        }
-      }
-    }
+    load_records<N, C>([&](int j) __attribute__((always_inline)) { return table + stride * bones[j] + offset; }, out);
   }
 };
 

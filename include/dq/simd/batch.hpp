@@ -143,6 +143,25 @@ void dlb(ConstRows a, ConstRows b, float t, Rows out, std::size_t n);
 /// `out` may be `a` or `b`.
 void sclerp(ConstRows a, ConstRows b, float t, Rows out, std::size_t n);
 
+// ---- layouts: arrays of structures in and out ------------------------------------------------------
+// The kernels take component arrays. These move elements stored one after another (a
+// std::vector<DualQuaternion<float>>, glm::dualquat or a NumPy (n, 8) float32 array read as such)
+// into the component arrays and back: whole elements loaded per vector lane and transposed with
+// shuffles, as the skinning kernels load the palette. n is the span's size; each component array
+// must hold n floats from the given start; the arrays and the span must not overlap. Exact copies
+// (every bit, NaNs included).
+
+/// out.rw[i] = in[i].real.w, ..., out.dz[i] = in[i].dual.z for i < in.size().
+void to_rows(std::span<const DualQuaternion<float>> in, Rows out);
+/// out[i] = the dual quaternion of component i of the eight arrays, for i < out.size().
+void from_rows(ConstRows in, std::span<DualQuaternion<float>> out);
+/// Quaternions (w, x, y, z), as the slerp kernel takes them.
+void to_rows(std::span<const Quaternion<float>> in, QuaternionRows<float> out);
+void from_rows(QuaternionRows<const float> in, std::span<Quaternion<float>> out);
+/// Points and directions (x, y, z), as transform_points and transform_directions take them.
+void to_rows(std::span<const Vec3<float>> in, std::array<float*, 3> out);
+void from_rows(std::array<const float*, 3> in, std::span<Vec3<float>> out);
+
 /// The batch forward kinematics job with the dispatched product. Precondition: job.validate().
 void run(const ForwardKinematicsJob<float>& job);
 

@@ -1,0 +1,175 @@
+// Records of C floats (a bone's palette entry, a dual quaternion of an array of structures) moved
+// into and out of C component vectors of N lanes, one record per lane: whole-record loads and
+// stores, and transposes with shuffles (no gathers or scatters). Used by the skinning kernels
+// (src/skin/skinning.cpp) and the layout conversions of src/simd/batch.cpp. Private to dqkit.
+#pragma once
+
+#include <cstring>
+
+#include "vector_types.hpp"
+
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+namespace dq::kernels {
+
+// Shuffles within each 128-bit block (unpcklps, unpckhps, movlhps, movhlps per block).
+#define DQKIT_IN_BLOCKS(name, i0, i1, i2, i3)                                                                              \
+  [[gnu::always_inline]] inline float4 name(float4 a, float4 b) { return __builtin_shufflevector(a, b, i0, i1, i2, i3); } \
+  [[gnu::always_inline]] inline float8 name(float8 a, float8 b) {                                                        \
+    return __builtin_shufflevector(a, b, i0 + (i0 < 4 ? 0 : 4), i1 + (i1 < 4 ? 0 : 4), i2 + (i2 < 4 ? 0 : 4), i3 + (i3 < 4 ? 0 : 4), \
+                                   i0 + (i0 < 4 ? 4 : 8), i1 + (i1 < 4 ? 4 : 8), i2 + (i2 < 4 ? 4 : 8), i3 + (i3 < 4 ? 4 : 8)); \
+  }                                                                                                                      \
+  [[gnu::always_inline]] inline float16 name(float16 a, float16 b) {                                                     \
+    return __builtin_shufflevector(a, b, i0 + (i0 < 4 ? 0 : 12), i1 + (i1 < 4 ? 0 : 12), i2 + (i2 < 4 ? 0 : 12), i3 + (i3 < 4 ? 0 : 12), \
+                                   i0 + (i0 < 4 ? 4 : 16), i1 + (i1 < 4 ? 4 : 16), i2 + (i2 < 4 ? 4 : 16), i3 + (i3 < 4 ? 4 : 16), \
+                                   i0 + (i0 < 4 ? 8 : 20), i1 + (i1 < 4 ? 8 : 20), i2 + (i2 < 4 ? 8 : 20), i3 + (i3 < 4 ? 8 : 20), \
+                                   i0 + (i0 < 4 ? 12 : 24), i1 + (i1 < 4 ? 12 : 24), i2 + (i2 < 4 ? 12 : 24), i3 + (i3 < 4 ? 12 : 24)); \
+  }
+DQKIT_IN_BLOCKS(unpack_low, 0, 4, 1, 5)
+DQKIT_IN_BLOCKS(unpack_high, 2, 6, 3, 7)
+DQKIT_IN_BLOCKS(low_halves, 0, 1, 4, 5)
+DQKIT_IN_BLOCKS(high_halves, 2, 3, 6, 7)
+#undef DQKIT_IN_BLOCKS
+
+/// Transposes four rows within each 128-bit block: out[c] block g holds component c of the four
+/// rows' block g. Its own inverse.
+template <class F>
+[[gnu::always_inline]] inline void transpose4_in_blocks(const F* r, F* out) {
+  const F t0 = unpack_low(r[0], r[1]), t1 = unpack_high(r[0], r[1]), t2 = unpack_low(r[2], r[3]), t3 = unpack_high(r[2], r[3]);
+  out[0] = low_halves(t0, t2), out[1] = high_halves(t0, t2), out[2] = low_halves(t1, t3), out[3] = high_halves(t1, t3);
+}
+
+/// Rows of eight (N = 8, 16: row j holds lane j's record, and lane j + 8's in its upper half) and
+/// component vectors, after transpose4_in_blocks: x[c] and x[c + 4] (c < 4) exchange their blocks
+/// so that each holds lanes 0-3 | 4-7 (| 8-11 | 12-15) of one component. Its own inverse.
+template <class F>
+[[gnu::always_inline]] inline void regroup_blocks(F* x) {
+  for (int c = 0; c < 4; ++c) {
+    const F a = x[c], b = x[c + 4];
+    if constexpr (sizeof(F) == 32) {
+      x[c] = __builtin_shufflevector(a, b, 0, 1, 2, 3, 8, 9, 10, 11);
+      x[c + 4] = __builtin_shufflevector(a, b, 4, 5, 6, 7, 12, 13, 14, 15);
+    } else {
+      x[c] = __builtin_shufflevector(a, b, 0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
+      x[c + 4] = __builtin_shufflevector(a, b, 4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
+    }
+  }
+}
+
+/// A record's block of four floats at p as one vector (no alignment required); with C = 3 (a
+/// point's x, y, z), only those three are read and the fourth lane repeats x.
+template <int C>
+[[gnu::always_inline]] inline float4 load_block(const float* p) {
+  if constexpr (C == 3) {
+    using float2 = float __attribute__((vector_size(8)));
+    const float2 xy = load_as<float2>(p);
+    return __builtin_shufflevector(xy, float2{p[2], 0.0f}, 0, 1, 2, 0);
+  } else {
+    return load_as<float4>(p);
+  }
+}
+/// The inverse: b's four floats to p, or with C = 3 its first three only.
+template <int C>
+[[gnu::always_inline]] inline void store_block(float* p, float4 b) {
+  if constexpr (C == 3) {
+    using float2 = float __attribute__((vector_size(8)));
+    const float2 xy = __builtin_shufflevector(b, b, 0, 1);
+    const float z = b[2];
+    std::memcpy(p, &xy, sizeof xy);
+    std::memcpy(p + 2, &z, sizeof z);
+  } else {
+    std::memcpy(p, &b, sizeof b);
+  }
+}
+/// Blocks of four floats joined into one vector, lowest first.
+[[gnu::always_inline]] inline float8 join(float4 a, float4 b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7); }
+[[gnu::always_inline]] inline float16 join(float8 a, float8 b) {
+  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+}
+/// Block g (four floats) of x.
+template <class F>
+[[gnu::always_inline]] inline float4 block(const F& x, int g) {
+  float4 b;
+  std::memcpy(&b, reinterpret_cast<const char*>(&x) + 16 * g, sizeof b);
+  return b;
+}
+
+/// out[c] lane j = record(j)[c] for c < C (C = 3, 4 or 8) and j < N (N = 4, 8, 16): one load of
+/// the record's C floats per lane (in blocks of four), then a transpose. `record(j)` gives lane j's
+/// record.
+template <int N, int C, class Record>
+[[gnu::always_inline]] inline void load_records(Record record, vec<N>* out) {
+  static_assert(C == 3 || C == 4 || C == 8);
+  using V = vec<N>;
+  if constexpr (C <= 4 || N == 4) {
+    // Rows of four: lane j's record (or half of it) in block j / 4 of row j % 4.
+    constexpr int B = C <= 4 ? C : 4;  // the floats of a block
+    for (int half = 0; half < (C + 3) / 4; ++half) {
+      V r[4], t[4];
+      for (int j = 0; j < 4; ++j) {
+        const int o = 4 * half;
+        if constexpr (N == 4)
+          r[j] = load_block<B>(record(j) + o);
+        else if constexpr (N == 8)
+          r[j] = join(load_block<B>(record(j) + o), load_block<B>(record(j + 4) + o));
+        else
+          r[j] = join(join(load_block<B>(record(j) + o), load_block<B>(record(j + 4) + o)),
+                      join(load_block<B>(record(j + 8) + o), load_block<B>(record(j + 12) + o)));
+      }
+      transpose4_in_blocks(r, t);
+      for (int c = 0; c < B; ++c) out[4 * half + c] = t[c];
+    }
+  } else {
+    // Eight components, N = 8 or 16: row j holds the records of lanes j (and j + 8), whose two
+    // blocks are components 0-3 and 4-7; transposed in blocks, then blocks regrouped across rows.
+    V r[8];
+    for (int j = 0; j < 8; ++j) {
+      if constexpr (N == 8)
+        r[j] = load_as<float8>(record(j));
+      else
+        r[j] = join(load_as<float8>(record(j)), load_as<float8>(record(j + 8)));
+    }
+    transpose4_in_blocks(r, out);
+    transpose4_in_blocks(r + 4, out + 4);
+    regroup_blocks(out);
+  }
+}
+
+/// The inverse of load_records: record(j)[c] = in[c] lane j for c < C and j < N, each record
+/// written whole (in blocks of four floats) and nothing else written.
+template <int N, int C, class Record>
+[[gnu::always_inline]] inline void store_records(const vec<N>* in, Record record) {
+  static_assert(C == 3 || C == 4 || C == 8);
+  using V = vec<N>;
+  if constexpr (C <= 4 || N == 4) {
+    constexpr int B = C <= 4 ? C : 4;
+    for (int half = 0; half < (C + 3) / 4; ++half) {
+      V c4[4], r[4];
+      for (int c = 0; c < 4; ++c) c4[c] = in[4 * half + (c < B ? c : 0)];  // a point's fourth lane: x again, not stored
+      transpose4_in_blocks(c4, r);
+#pragma GCC unroll 4
+      for (int j = 0; j < 4; ++j)
+#pragma GCC unroll 4
+        for (int g = 0; g < N / 4; ++g) store_block<B>(record(j + 4 * g) + 4 * half, block(r[j], g));
+    }
+  } else {
+    V u[8], r[8];
+    for (int c = 0; c < 8; ++c) u[c] = in[c];
+    regroup_blocks(u);
+    transpose4_in_blocks(u, r);
+    transpose4_in_blocks(u + 4, r + 4);
+#pragma GCC unroll 8  // rolled, GCC 12 copied the records through the stack in 16-byte pieces
+    for (int j = 0; j < 8; ++j) {
+      if constexpr (N == 8) {
+        std::memcpy(record(j), &r[j], sizeof r[j]);
+      } else {
+        const float8 low = __builtin_shufflevector(r[j], r[j], 0, 1, 2, 3, 4, 5, 6, 7);
+        const float8 high = __builtin_shufflevector(r[j], r[j], 8, 9, 10, 11, 12, 13, 14, 15);
+        std::memcpy(record(j), &low, sizeof low);
+        std::memcpy(record(j + 8), &high, sizeof high);
+      }
+    }
+  }
+}
+
+}  // namespace dq::kernels
+#endif
