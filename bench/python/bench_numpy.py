@@ -170,3 +170,21 @@ line(f"forward kinematics of (F, J, 8) = ({F}, {J}, 8) CMU poses", "joints", [
     ("NumPy (loop over joints)", F * J / best(lambda: numpy_fk(parents, local))),
     ("scipy Rotation (loop over joints)", F * J / best(lambda: scipy_fk(parents, rots, trans))),
 ])
+
+# ---- float32 rows in cache ---------------------------------------------------------------------
+# float32 compose, normalized and transform_points run dq::simd's kernels on the CPU's widest
+# instruction set (the rows converted to component arrays in chunks); float64 runs the scalar
+# functions. 65,536 rows: 2 MB per (N, 8) float32 array, in the last-level cache, where NumPy's
+# allocation of the result (first touches of fresh pages) does not set the rate.
+M = 1 << 16
+qa, qb = random_rigid(rng, M)[0], random_rigid(rng, M)[0]
+pm = rng.normal(size=(M, 3))
+qa32, qb32, pm32 = qa.astype(np.float32), qb.astype(np.float32), pm.astype(np.float32)
+scaled = qa * rng.uniform(0.5, 2.0, size=(M, 1))
+scaled32 = scaled.astype(np.float32)
+assert np.allclose(dqkit.compose(qa32, qb32), dq_product(qa, qb), atol=1e-5)
+for what, f64, f32 in (("compose", lambda: dqkit.compose(qa, qb), lambda: dqkit.compose(qa32, qb32)),
+                       ("normalized", lambda: dqkit.normalized(scaled), lambda: dqkit.normalized(scaled32)),
+                       ("transform_points", lambda: dqkit.transform_points(qa, pm), lambda: dqkit.transform_points(qa32, pm32))):
+    line(f"{what}, N = {M} rows in cache", "rows", [(f"dqkit.{what} float64", M / best(f64)), (f"dqkit.{what} float32", M / best(f32))])
+
