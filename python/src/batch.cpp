@@ -5,6 +5,12 @@
 // used for all N.
 #include "batch.hpp"
 
+#include <algorithm>
+#include <array>
+#include <utility>
+
+#include "dq/simd/batch.hpp"
+
 namespace dqpy {
 
 std::vector<py::ssize_t> common_leading(std::initializer_list<std::pair<const BatchInput*, const char*>> inputs) {
@@ -70,27 +76,92 @@ using RowMajor34 = RowMajor<T, 3, 4>;
 
 const std::vector<const char*> dq_shape{"N", "8"}, q_shape{"N", "4"}, p_shape{"N", "3"}, t_shape{"N"};
 
+// float32 rows through the dq::simd kernels, which compute the scalar functions bit for bit
+// (tests/test_simd.cpp) on the widest instruction set the CPU has: NumPy's rows (arrays of
+// structures) converted to component arrays on the stack and back (dq::simd::to_rows, from_rows),
+// kChunk rows at a time, so that nothing is allocated.
+constexpr std::size_t kChunk = 256;
+/// C component arrays of kChunk floats.
+template <std::size_t C>
+struct Chunk {
+  alignas(64) std::array<std::array<float, kChunk>, C> c;
+  std::array<float*, C> starts() {
+    std::array<float*, C> s;
+    for (std::size_t k = 0; k < C; ++k) s[k] = c[k].data();
+    return s;
+  }
+  std::array<const float*, C> starts() const {
+    std::array<const float*, C> s;
+    for (std::size_t k = 0; k < C; ++k) s[k] = c[k].data();
+    return s;
+  }
+  dq::simd::Rows rows() requires(C == 8) { return dq::detail::row_of<float>(c, 0); }
+  dq::simd::ConstRows rows() const requires(C == 8) { return dq::detail::row_of<const float>(c, 0); }
+};
+/// chunk(first, count) over [0, n) in pieces of at most kChunk rows.
+template <class F>
+void in_chunks(std::size_t n, F chunk) {
+  for (std::size_t i = 0; i < n; i += kChunk) chunk(i, std::min(kChunk, n - i));
+}
+/// out[i] = kernel(q[i], p[i]) for a kernel over dual quaternions and points (transform_points, transform_directions).
+template <class Kernel>
+auto points32(Kernel kernel) {
+  return [kernel](const DQ<float>* q, const V<float>* p, V<float>* out, std::size_t n) {
+    Chunk<8> cq;
+    Chunk<3> cp;
+    in_chunks(n, [&](std::size_t i, std::size_t m) {
+      dq::simd::to_rows({q + i, m}, cq.rows());
+      dq::simd::to_rows({p + i, m}, cp.starts());
+      kernel(std::as_const(cq).rows(), std::as_const(cp).starts(), cp.starts(), m);
+      dq::simd::from_rows(std::as_const(cp).starts(), {out + i, m});
+    });
+  };
+}
+/// out[i] = kernel(q[i]) for a kernel from dual quaternions to dual quaternions (normalize, inverse).
+template <class Kernel>
+auto unary32(Kernel kernel) {
+  return [kernel](const DQ<float>* q, DQ<float>* out, std::size_t n) {
+    Chunk<8> c;
+    in_chunks(n, [&](std::size_t i, std::size_t m) {
+      dq::simd::to_rows({q + i, m}, c.rows());
+      kernel(std::as_const(c).rows(), c.rows(), m);
+      dq::simd::from_rows(std::as_const(c).rows(), {out + i, m});
+    });
+  };
+}
+void compose32(const DQ<float>* a, const DQ<float>* b, DQ<float>* out, std::size_t n) {
+  Chunk<8> ca, cb;
+  in_chunks(n, [&](std::size_t i, std::size_t m) {
+    dq::simd::to_rows({a + i, m}, ca.rows());
+    dq::simd::to_rows({b + i, m}, cb.rows());
+    dq::simd::compose(std::as_const(ca).rows(), std::as_const(cb).rows(), ca.rows(), m);
+    dq::simd::from_rows(std::as_const(ca).rows(), {out + i, m});
+  });
+}
+
 void bind_products(py::module_& m) {
   m.def("compose", [](ArrayLike a, ArrayLike b) {
-    return map2<DQ, DQ, DQ>(a, b, "a", "b", dq_shape, dq_shape, {8}, [](const auto& x, const auto& y) { return x * y; });
+    return map2<DQ, DQ, DQ>(a, b, "a", "b", dq_shape, dq_shape, {8}, [](const auto& x, const auto& y) { return x * y; }, compose32);
   }, py::arg("a"), py::arg("b"), "Row-wise products a[i] b[i] of (N, 8) dual quaternions (b applied first).");
   m.def("quaternion_product", [](ArrayLike a, ArrayLike b) {
     return map2<Q, Q, Q>(a, b, "a", "b", q_shape, q_shape, {4}, [](const auto& x, const auto& y) { return x * y; });
   }, py::arg("a"), py::arg("b"), "Row-wise Hamilton products of (N, 4) quaternions.");
   m.def("transform_points", [](ArrayLike q, ArrayLike p) {
-    return map2<DQ, V, V>(q, p, "q", "p", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_point(y); });
+    return map2<DQ, V, V>(q, p, "q", "p", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_point(y); },
+                          points32(dq::simd::transform_points));
   }, py::arg("q"), py::arg("p"), "R p + t for (N, 8) unit dual quaternions and (N, 3) points.");
   m.def("transform_directions", [](ArrayLike q, ArrayLike v) {
-    return map2<DQ, V, V>(q, v, "q", "v", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_direction(y); });
+    return map2<DQ, V, V>(q, v, "q", "v", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_direction(y); },
+                          points32(dq::simd::transform_directions));
   }, py::arg("q"), py::arg("v"), "R v for (N, 8) unit dual quaternions and (N, 3) directions.");
   m.def("rotate", [](ArrayLike q, ArrayLike v) {
     return map2<Q, V, V>(q, v, "q", "v", q_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.rotate(y); });
   }, py::arg("q"), py::arg("v"), "q v q* for (N, 4) unit quaternions and (N, 3) vectors.");
   m.def("normalized", [](ArrayLike q) {
-    return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.normalized(); });
+    return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.normalized(); }, unary32(dq::simd::normalize));
   }, py::arg("q"), "Each (N, 8) dual quaternion made unit (DualQuaternion.normalized).");
   m.def("conjugate", [](ArrayLike q) {
-    return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.conjugate(); });
+    return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.conjugate(); }, unary32(dq::simd::inverse));  // Q*, bit for bit
   }, py::arg("q"), "Q* of each (N, 8) dual quaternion: the inverse of a unit one.");
 }
 

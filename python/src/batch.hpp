@@ -28,24 +28,31 @@ inline std::vector<py::ssize_t> out_shape(const std::vector<py::ssize_t>& leadin
   return s;
 }
 
-/// out[i] = f(a[i]) over the rows of `a`, items reinterpreted as A<T> and R<T>.
-template <template <class> class A, template <class> class R, class F>
-py::array map1(py::handle a, const char* name, const std::vector<const char*>& shape, const std::vector<py::ssize_t>& tail, F f) {
+/// out[i] = f(a[i]) over the rows of `a`, items reinterpreted as A<T> and R<T>. `rows32`, where
+/// given, computes the same for float32 rows in one call (`rows32(x, o, n)`: a dq::simd kernel,
+/// bit for bit f).
+template <template <class> class A, template <class> class R, class F, class Rows32 = std::nullptr_t>
+py::array map1(py::handle a, const char* name, const std::vector<const char*>& shape, const std::vector<py::ssize_t>& tail, F f,
+               Rows32 rows32 = nullptr) {
   return with_dtype(call_dtype(a, name), [&]<class T>() -> py::array {
     const BatchInput in = batch_input(a, shape, dtype_of_v<T>, name, true);
     py::array_t<T> out(out_shape(in.leading, tail));
     const A<T>* x = as_values<A<T>>(data_of<T>(in));
     R<T>* o = as_values<R<T>>(out.mutable_data());
     py::gil_scoped_release release;
-    for (std::size_t i = 0; i < in.count; ++i) o[i] = f(x[i]);
+    if constexpr (std::is_same_v<T, float> && !std::is_null_pointer_v<Rows32>)
+      rows32(x, o, in.count);
+    else
+      for (std::size_t i = 0; i < in.count; ++i) o[i] = f(x[i]);
     return out;
   });
 }
 
-/// out[i] = f(a[i], b[i]); a single a or b is used for every row.
-template <template <class> class A, template <class> class B, template <class> class R, class F>
+/// out[i] = f(a[i], b[i]); a single a or b is used for every row. `rows32`, where given, computes
+/// the same for float32 rows of a and b in one call (`rows32(x, y, o, n)`), unless a or b is single.
+template <template <class> class A, template <class> class B, template <class> class R, class F, class Rows32 = std::nullptr_t>
 py::array map2(py::handle a, py::handle b, const char* na, const char* nb, const std::vector<const char*>& sa,
-               const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f) {
+               const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f, Rows32 rows32 = nullptr) {
   return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
     const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);
     const std::vector<py::ssize_t> leading = common_leading({{&ia, na}, {&ib, nb}});
@@ -56,6 +63,12 @@ py::array map2(py::handle a, py::handle b, const char* na, const char* nb, const
     const B<T>* y = as_values<B<T>>(data_of<T>(ib));
     R<T>* o = as_values<R<T>>(out.mutable_data());
     py::gil_scoped_release release;
+    if constexpr (std::is_same_v<T, float> && !std::is_null_pointer_v<Rows32>) {
+      if (da == 1 && db == 1) {
+        rows32(x, y, o, n);
+        return out;
+      }
+    }
     for (std::size_t i = 0; i < n; ++i) o[i] = f(x[i * da], y[i * db]);
     return out;
   });

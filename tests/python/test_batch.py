@@ -105,6 +105,26 @@ def test_float32_matches_float64(name, rng):
     np.testing.assert_allclose(r32, r64, atol=TOL32 * 4)
 
 
+def test_float32_rows_take_the_vector_kernels_bit_for_bit(rng):
+    """float32 rows of compose, transform_points, transform_directions, normalized and conjugate run
+    dq::simd's kernels (in chunks of 256 rows converted on the stack): each row's result is, bit for
+    bit, the one computed for that row alone (fewer rows than a vector: the scalar formula)."""
+    n = 1003  # three whole chunks and a tail that is no multiple of any vector width
+    a = random_rigid(rng, n)[0].astype(np.float32)
+    b = random_rigid(rng, n)[0].astype(np.float32)
+    p = rng.normal(size=(n, 3)).astype(np.float32)
+    scaled = a * rng.uniform(0.5, 2.0, size=(n, 1)).astype(np.float32)
+    scaled[7, :4] = 0  # normalize's other branches: a zero real part, a NaN, a dual part along the real one
+    scaled[300, 5] = np.nan
+    scaled[700, 4:] = 3 * scaled[700, :4]
+    for f, args in ((dqkit.compose, (a, b)), (dqkit.transform_points, (a, p)), (dqkit.transform_directions, (a, p)),
+                    (dqkit.normalized, (scaled,)), (dqkit.conjugate, (scaled,))):
+        whole = f(*args)
+        assert whole.dtype == np.float32
+        alone = np.array([f(*(x[i] for x in args)) for i in range(n)])
+        np.testing.assert_array_equal(whole.view(np.uint32), alone.view(np.uint32), err_msg=f.__name__)
+
+
 def test_non_contiguous_inputs_are_read_correctly(rng):
     a, _, _ = random_rigid(rng, 20)
     wide = np.zeros((20, 16))
