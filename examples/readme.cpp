@@ -55,8 +55,31 @@ static int character_example(const std::string& path) {
   return std::isfinite(head.x) ? 0 : 1;
 }
 
+// ---- README: Many at once -----------------------------------------------------------------------------
+#include <dq/simd/batch.hpp>
+
+static int batch_example() {
+  const std::size_t n = 1000;
+  std::vector<dq::DualQuaternion<float>> a(n), b(n);                // filled by the caller
+  for (std::size_t i = 0; i < n; ++i) {
+    a[i] = dq::DualQuaternion<float>::from_rotation_translation(Quaternion<float>::from_axis_angle({0, 0, 1}, 0.001f * float(i)), {1, 2, 3});
+    b[i] = dq::DualQuaternion<float>::from_translation({float(i), 0, 0});
+  }
+  const std::vector<dq::DualQuaternion<float>> a0 = a;
+  dq::ComponentArrays<float, 8> ra(n), rb(n);                       // eight aligned arrays each
+  dq::simd::to_rows(a, dq::simd::rows(ra));
+  dq::simd::to_rows(b, dq::simd::rows(rb));
+  dq::simd::compose(dq::simd::rows(ra), dq::simd::rows(rb), dq::simd::rows(ra), n);  // a[i] · b[i], in place
+  dq::simd::from_rows(dq::simd::rows(ra), a);                       // the scalar product's bits
+
+  bool ok = true;
+  for (std::size_t i = 0; i < n; ++i) ok = ok && a[i] == a0[i] * b[i];
+  std::printf("batch example: %s\n", ok ? "ok" : "WRONG");
+  return ok ? 0 : 1;
+}
+
 int main(int argc, char** argv) {
   const int a = algebra_example();
   const int b = argc > 1 ? character_example(argv[1]) : 0;
-  return a | b;
+  return a | b | batch_example();
 }
