@@ -255,6 +255,44 @@ void FkOneSkeletonEigen(benchmark::State& s) {
   FkOneSkeleton<E>(s, to_eigen_transform<E>);
 }
 
+/// Frames stored one after another (frame f's joint j at [f · 64 + j], a NumPy (F, J, 8) array):
+/// simd::local_to_model_frames, which loads and transposes them in place, against dq::local_to_model
+/// frame by frame (what the Python binding ran before). The first `frames` poses of the 10,000.
+struct Frames {
+  std::vector<DualQuaternion<float>> local, model;
+  explicit Frames(std::size_t frames) : model(frames * kJoints) {
+    const auto v = skeletons(10'000).local.view();
+    for (std::size_t f = 0; f < frames; ++f)
+      for (std::size_t j = 0; j < kJoints; ++j) local.push_back(v.get(j, f));
+  }
+};
+void FkFramesDispatched(benchmark::State& state) {
+  const auto frames = static_cast<std::size_t>(state.range(0));
+  Frames x(frames);
+  const std::vector<int>& parents = skeletons(10'000).parents;
+  state.SetLabel(std::string(simd::to_string(simd::current_target())));
+  for (auto _ : state) {
+    (void)simd::local_to_model_frames(parents, x.local, x.model);
+    benchmark::ClobberMemory();
+  }
+  report_fk(state, frames);
+}
+void FkFramesPerFrame(benchmark::State& state) {
+  const auto frames = static_cast<std::size_t>(state.range(0));
+  Frames x(frames);
+  const std::vector<int>& parents = skeletons(10'000).parents;
+  for (auto _ : state) {
+    for (std::size_t f = 0; f < frames; ++f)
+      local_to_model<DualQuaternion<float>>(parents, std::span(x.local).subspan(f * kJoints, kJoints), std::span(x.model).subspan(f * kJoints, kJoints));
+    benchmark::ClobberMemory();
+  }
+  std::vector<DualQuaternion<float>> batch(x.model.size());
+  (void)simd::local_to_model_frames(parents, x.local, batch);
+  for (std::size_t i = 0; i < batch.size(); ++i)
+    if (!same_transform(x.model[i], batch[i], kFkTolerance)) return state.SkipWithError("the frame-by-frame result differs from the batch's");
+  report_fk(state, frames);
+}
+
 // ---- points and compositions ---------------------------------------------------------------------------
 
 /// n dual quaternions in SoA (8 arrays), points (3), outputs, and AoS copies for the peers. The
@@ -677,6 +715,8 @@ BENCHMARK(FkScalarJob)->Arg(10'000)->Arg(100'000)->UseRealTime();
 BENCHMARK(FkEigenPerPose<Eigen::Isometry3f>)->Name("FkEigenPerPose")->Arg(10'000)->UseRealTime();
 BENCHMARK(FkEigenPerPose<Eigen::Matrix4f>)->Name("FkEigenMatrix4fPerPose")->Arg(10'000)->UseRealTime();
 BENCHMARK(FkOneSkeletonDualQuaternion);
+BENCHMARK(FkFramesDispatched)->Arg(1024)->UseRealTime();
+BENCHMARK(FkFramesPerFrame)->Arg(1024)->UseRealTime();
 BENCHMARK(FkOneSkeletonEigen<Eigen::Isometry3f>)->Name("FkOneSkeletonEigenIsometry3f");
 BENCHMARK(FkOneSkeletonEigen<Eigen::Matrix4f>)->Name("FkOneSkeletonEigenMatrix4f");
 BENCHMARK(TransformPointsDispatched)->Arg(0)->Arg(1);

@@ -270,7 +270,11 @@ def main(results):
         ("FkDispatched/100000/1/real_time", "100,000 skeletons, dqkit joint-major, dispatched, 1 thread"),
         ("FkDispatched/100000/2/real_time", "100,000 skeletons, dqkit joint-major, dispatched, 2 threads"),
         ("FkScalarJob/100000/real_time", "100,000 skeletons, dqkit joint-major job, auto-vectorized"),
+        ("FkFramesDispatched/1024/real_time", "1024 frames one after another (NumPy's (F, J, 8)), `local_to_model_frames`, 1 thread"),
+        ("FkFramesPerFrame/1024/real_time", "1024 frames one after another, `dq::local_to_model` frame by frame"),
     ):
+        if name not in b:
+            continue  # a run of the suite before the case existed
         r = b[name]
         add(f"| {label} | {fmt(r['joints_per_s'])} | {fmt(r['bytes_per_second'], 'B/s')} | {r['joints_per_s'] / eigen:.2f} | "
             f"{r['joints_per_s'] / eigen4:.2f} | {r['bytes_per_second'] / copy1:.2f} |")
@@ -312,6 +316,8 @@ def main(results):
         ("ToRows", (("ToRowsLoop", "the loop users write, component by component"),)),
         ("FromRows", (("FromRowsLoop", "the loop users write, component by component"),)),
     ):
+        if kernel + "Dispatched" not in b:
+            continue  # a run of the suite before the kernel existed
         mine = b[kernel + "Dispatched"]["per_s"]
         for peer, label in peers:
             theirs = b[peer]["per_s"]

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <span>
 #include <utility>
@@ -130,6 +131,56 @@ TEST(PoseBlocks, DispatchedKernelIsTheScalarJobBitForBitAndKeepsToItsBlocks) {
       for (std::size_t i = 0; i < data.size(); ++i) ASSERT_TRUE(same_bits(data[i], want[i])) << "value " << i;
     });
   }
+}
+
+TEST(PoseBlocks, FramesOneAfterAnotherGiveTheBlockedJobsResultBitForBit) {
+  // local_to_model_frames on frames stored one after another (joint j of frame f at [f·J + j]),
+  // every target, frame counts that are no multiple of any width: bit for bit the blocked job on
+  // the same poses (another layout, another kernel); nothing outside `model` written.
+  const Poses in(4);
+  const std::size_t joints = kParents.size();
+  DualQuaternionBlockStorage<float> expected(joints, kPoses);
+  BlockedForwardKinematicsJob<float>{kParents, in.local.view(), expected.view(), 0, 3}.run();
+  for (const std::size_t frames : {std::size_t{0}, std::size_t{1}, std::size_t{3}, std::size_t{16}, std::size_t{17}, kPoses}) {
+    std::vector<DualQuaternion<float>> local(frames * joints);
+    for (std::size_t f = 0; f < frames; ++f)
+      for (std::size_t j = 0; j < joints; ++j) local[f * joints + j] = in.local.view().get(j, f);
+    for_each_target([&](simd::Target) {
+      const DualQuaternion<float> guard(1, 2, 3, 4, 5, 6, 7, 8);
+      std::vector<DualQuaternion<float>> model(frames * joints + 2, guard);
+      ASSERT_TRUE(simd::local_to_model_frames(kParents, local, std::span(model).subspan(1, frames * joints)).ok());
+      ASSERT_TRUE(std::memcmp(&model.front(), &guard, sizeof guard) == 0 && std::memcmp(&model.back(), &guard, sizeof guard) == 0)
+          << "frames " << frames;
+      for (std::size_t f = 0; f < frames; ++f)
+        for (std::size_t j = 0; j < joints; ++j) expect_same_bits(model[1 + f * joints + j], expected.view().get(j, f), j, f);
+    });
+  }
+  // More joints than the kernel keeps on the stack (128): parents loaded back from `model`.
+  test::Random rng(5);
+  std::vector<int> many{-1};
+  for (int j = 1; j < 200; ++j) many.push_back(j % 50 == 0 ? -1 : static_cast<int>(rng.uniform<double>(0, j - 0.5)));
+  const std::size_t frames = 21;
+  DualQuaternionBlockStorage<float> many_local(many.size(), frames), many_expected(many.size(), frames);
+  std::vector<DualQuaternion<float>> flat(frames * many.size());
+  for (std::size_t f = 0; f < frames; ++f)
+    for (std::size_t j = 0; j < many.size(); ++j) many_local.view().set(j, f, flat[f * many.size() + j] = rng.rigid<float>(3));
+  BlockedForwardKinematicsJob<float>{many, many_local.view(), many_expected.view(), 0, 2}.run();
+  for_each_target([&](simd::Target) {
+    std::vector<DualQuaternion<float>> model(flat.size());
+    ASSERT_TRUE(simd::local_to_model_frames(many, flat, model).ok());
+    for (std::size_t f = 0; f < frames; ++f)
+      for (std::size_t j = 0; j < many.size(); ++j) expect_same_bits(model[f * many.size() + j], many_expected.view().get(j, f), j, f);
+  });
+  // What cannot run says why, and writes nothing.
+  std::vector<DualQuaternion<float>> local(2 * joints), model(2 * joints);
+  EXPECT_EQ(simd::local_to_model_frames(kParents, local, std::span(model).first(joints)).error().message,
+            "local and model must hold the same whole number of frames of 11 joints");
+  EXPECT_EQ(simd::local_to_model_frames(kParents, std::span(local).first(joints + 1), std::span(model).first(joints + 1)).error().message,
+            "local and model must hold the same whole number of frames of 11 joints");
+  const std::vector<int> late{-1, 2, 0};
+  EXPECT_EQ(simd::local_to_model_frames(late, std::span(local).first(3), std::span(model).first(3)).error().message,
+            "joint 1: parent does not come before it");
+  EXPECT_EQ(simd::local_to_model_frames(kParents, local, std::span(local)).error().message, "model must not overlap local");
 }
 
 // Streaming stores need a copy of one block's joints on the stack (128 at most) and model storage

@@ -172,10 +172,11 @@ line(f"forward kinematics of (F, J, 8) = ({F}, {J}, 8) CMU poses", "joints", [
 ])
 
 # ---- float32 rows in cache ---------------------------------------------------------------------
-# float32 compose, normalized and transform_points run dq::simd's kernels on the CPU's widest
-# instruction set (the rows converted to component arrays in chunks); float64 runs the scalar
-# functions. 65,536 rows: 2 MB per (N, 8) float32 array, in the last-level cache, where NumPy's
-# allocation of the result (first touches of fresh pages) does not set the rate.
+# float32 compose, normalized, transform_points and local_to_model run dq::simd's kernels on the
+# CPU's widest instruction set (the rows converted to component arrays in chunks; FK's frames
+# transposed in place); float64 runs the scalar functions. 65,536 rows (2 MB per (N, 8) float32
+# array) and 1024 frames of the clip: in the last-level cache, where NumPy's allocation of the
+# result (first touches of fresh pages) does not set the rate.
 M = 1 << 16
 qa, qb = random_rigid(rng, M)[0], random_rigid(rng, M)[0]
 pm = rng.normal(size=(M, 3))
@@ -187,4 +188,9 @@ for what, f64, f32 in (("compose", lambda: dqkit.compose(qa, qb), lambda: dqkit.
                        ("normalized", lambda: dqkit.normalized(scaled), lambda: dqkit.normalized(scaled32)),
                        ("transform_points", lambda: dqkit.transform_points(qa, pm), lambda: dqkit.transform_points(qa32, pm32))):
     line(f"{what}, N = {M} rows in cache", "rows", [(f"dqkit.{what} float64", M / best(f64)), (f"dqkit.{what} float32", M / best(f32))])
-
+few = local[:1024]
+few32 = few.astype(np.float32)
+line(f"forward kinematics of (F, J, 8) = ({len(few)}, {J}, 8) CMU poses, in cache", "joints", [
+    ("dqkit.local_to_model float64", few.shape[0] * J / best(lambda: dqkit.local_to_model(skeleton, few))),
+    ("dqkit.local_to_model float32", few.shape[0] * J / best(lambda: dqkit.local_to_model(skeleton, few32))),
+])

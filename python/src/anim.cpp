@@ -12,6 +12,7 @@
 #include "dq/io/bvh.hpp"
 #include "dq/io/file.hpp"
 #include "dq/io/motion.hpp"
+#include "dq/simd/pose_blocks.hpp"
 #ifdef DQKIT_PY_HAVE_IMPORT
 #include "dq/io/scene.hpp"
 #endif
@@ -142,8 +143,14 @@ void bind_skeleton(py::module_& m) {
       auto* o = as_values<dq::DualQuaternion<T>>(out.mutable_data());
       const std::size_t n = parents.size();
       py::gil_scoped_release release;
-      for (std::size_t f = 0; f < frames; ++f)
-        dq::local_to_model<dq::DualQuaternion<T>>(parents, std::span(x + f * n, n), std::span(o + f * n, n));
+      if constexpr (std::is_same_v<T, float>) {
+        // The frames in place on the vector lanes (validated above: parents_of, the shape).
+        const dq::Status s = dq::simd::local_to_model_frames(parents, std::span(x, frames * n), std::span(o, frames * n));
+        if (!s) throw std::logic_error("local_to_model: " + s.error().message);
+      } else {
+        for (std::size_t f = 0; f < frames; ++f)
+          dq::local_to_model<dq::DualQuaternion<T>>(parents, std::span(x + f * n, n), std::span(o + f * n, n));
+      }
       return out;
     });
   }, py::arg("skeleton"), py::arg("local"),

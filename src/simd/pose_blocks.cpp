@@ -5,8 +5,11 @@
 #include "dq/simd/pose_blocks.hpp"
 
 #include <cstdint>
+#include <string>
+#include <type_traits>
 
 #include "lanes.hpp"
+#include "records.hpp"
 
 namespace dq::simd {
 
@@ -15,6 +18,9 @@ namespace {
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
 using kernels::Lanes;
 using kernels::load8;
+using kernels::load_records;
+using kernels::store_records;
+using kernels::vec;
 using kernels::product;
 using kernels::store8;
 using kernels::store_streaming;
@@ -83,6 +89,49 @@ bool streams(const BlockedForwardKinematicsJob<float>& job) {
          reinterpret_cast<std::uintptr_t>(job.model.data.data()) % 64 == 0;
 }
 
+/// The joints whose model transforms local_to_model_frames keeps transposed on the stack, for
+/// their children (8 vectors a joint: 64 KB with AVX-512); beyond them, a parent's are loaded
+/// back from `model` and transposed again.
+constexpr std::size_t kFramesKeptJoints = 128;
+
+/// Forward kinematics of N consecutive frames from `first` (local_to_model_frames): each joint's
+/// local transforms loaded per lane and transposed, the product with its parent's model
+/// transforms on the lanes, the result transposed back and stored.
+template <int N>
+[[gnu::always_inline]] inline void frames_product(std::span<const int> parents, const float* local, float* model, std::size_t first) {
+  const std::size_t joints = parents.size();
+  const bool keep = joints <= kFramesKeptJoints;
+  vec<N> kept[kFramesKeptJoints][8];
+  auto dual_quaternion = [](const vec<N>* c) __attribute__((always_inline)) {
+    return DualQuaternion<Lanes<N>>(Quaternion<Lanes<N>>(c[0], c[1], c[2], c[3]), Quaternion<Lanes<N>>(c[4], c[5], c[6], c[7]));
+  };
+  auto at = [&](auto* base, std::size_t joint) __attribute__((always_inline)) {
+    return [base, joint, joints, first](int lane) __attribute__((always_inline)) {
+      return base + 8 * ((first + static_cast<std::size_t>(lane)) * joints + joint);
+    };
+  };
+  for (std::size_t j = 0; j < joints; ++j) {
+    vec<N> l[8], reloaded[8];
+    vec<N>* out = keep ? kept[j] : reloaded;
+    load_records<N, 8>(at(local, j), l);
+    const int p = parents[j];
+    if (p < 0) {
+      for (int c = 0; c < 8; ++c) out[c] = l[c];
+    } else {
+      vec<N> m[8];
+      const vec<N>* parent = m;
+      if (keep)
+        parent = kept[p];
+      else
+        load_records<N, 8>(at(model, static_cast<std::size_t>(p)), m);
+      const DualQuaternion<Lanes<N>> q = product(dual_quaternion(parent), dual_quaternion(l));
+      const Lanes<N>* parts[8] = {&q.real.w, &q.real.x, &q.real.y, &q.real.z, &q.dual.w, &q.dual.x, &q.dual.y, &q.dual.z};
+      for (int c = 0; c < 8; ++c) out[c] = parts[c]->v;
+    }
+    store_records<N, 8>(out, at(model, j));
+  }
+}
+
 #define DQKIT_TARGET_KERNEL(name, lanes, attribute)                                                       \
   [[gnu::target(attribute), gnu::flatten]] void run_##name(const BlockedForwardKinematicsJob<float>& job) { \
     job.run_blocks([](ConstRows parent, ConstRows local, Rows model) { block_product<lanes>(parent, local, model); }); \
@@ -92,6 +141,19 @@ DQKIT_TARGET_KERNEL(sse42, 4, "sse4.2")
 DQKIT_TARGET_KERNEL(avx2, 8, "avx2")
 DQKIT_TARGET_KERNEL(avx512, 16, "avx512f")
 #undef DQKIT_TARGET_KERNEL
+// The frames' kernel per target: whole vectors of frames; returns the frames done.
+#define DQKIT_FRAMES_KERNEL(name, lanes, attribute)                                                      \
+  [[gnu::target(attribute), gnu::flatten]] std::size_t frames_##name(std::span<const int> parents, const float* local, \
+                                                                     float* model, std::size_t frames) { \
+    std::size_t f = 0;                                                                                   \
+    for (; f + lanes <= frames; f += lanes) frames_product<lanes>(parents, local, model, f);             \
+    return f;                                                                                            \
+  }
+DQKIT_FRAMES_KERNEL(sse2, 4, "sse2")
+DQKIT_FRAMES_KERNEL(sse42, 4, "sse4.2")
+DQKIT_FRAMES_KERNEL(avx2, 8, "avx2")
+DQKIT_FRAMES_KERNEL(avx512, 16, "avx512f")
+#undef DQKIT_FRAMES_KERNEL
 // The streaming kernels are functions of their own, so that their 64 KB stack copy is not part of
 // the cached kernels' frames.
 #define DQKIT_STREAMING_KERNEL(name, lanes, attribute)                                                    \
@@ -116,6 +178,44 @@ void run(const BlockedForwardKinematicsJob<float>& job) {
 #endif
     default: return job.run();
   }
+}
+
+Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
+                             std::span<DualQuaternion<float>> model) {
+  const std::size_t joints = parents.size();
+  for (std::size_t j = 0; j < joints; ++j)
+    if (parents[j] >= static_cast<int>(j)) return Error{"joint " + std::to_string(j) + ": parent does not come before it"};
+  if (local.size() != model.size() || (joints == 0 ? !local.empty() : local.size() % joints != 0))
+    return Error{"local and model must hold the same whole number of frames of " + std::to_string(joints) + " joints"};
+  if (local.empty()) return {};
+  const auto* in = local.data();
+  auto* out = model.data();
+  const auto address = [](const void* x) { return reinterpret_cast<std::uintptr_t>(x); };
+  if (address(out) < address(in + local.size()) && address(in) < address(out + model.size())) return Error{"model must not overlap local"};
+  static_assert(sizeof(DualQuaternion<float>) == 8 * sizeof(float) && std::is_trivially_copyable_v<DualQuaternion<float>>);
+  const std::size_t frames = local.size() / joints;
+  [[maybe_unused]] const float* l = reinterpret_cast<const float*>(in);
+  [[maybe_unused]] float* m = reinterpret_cast<float*>(out);
+  std::size_t done = 0;
+  switch (current_target()) {
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+    case Target::avx512: done = frames_avx512(parents, l, m, frames); break;
+    case Target::avx2: done = frames_avx2(parents, l, m, frames); break;
+    case Target::sse42: done = frames_sse42(parents, l, m, frames); break;
+    case Target::sse2: done = frames_sse2(parents, l, m, frames); break;
+#endif
+    default: break;
+  }
+  // The remaining frames with the same product on scalars.
+  const auto product = [](const DualQuaternion<float>& a, const DualQuaternion<float>& b) {
+    return detail::dual_product(a, b, [](const Quaternion<float>& x, const Quaternion<float>& y) { return detail::hamilton(x, y); });
+  };
+  for (std::size_t f = done; f < frames; ++f)
+    for (std::size_t j = 0; j < joints; ++j) {
+      const int p = parents[j];
+      out[f * joints + j] = p < 0 ? in[f * joints + j] : product(out[f * joints + static_cast<std::size_t>(p)], in[f * joints + j]);
+    }
+  return {};
 }
 
 }  // namespace dq::simd

@@ -63,6 +63,19 @@ def test_batch_forward_kinematics_on_cmu():
         np.testing.assert_array_equal(model[f], [np.asarray(w) for w in world])
     # One pose, float32, and parents given as a list.
     np.testing.assert_array_equal(dqkit.local_to_model(list(skeleton.parents), local[5]), model[5])
+    # float32 frames run on the vector lanes, in place (dq::simd::local_to_model_frames): each frame
+    # as computed alone (the same product on scalars), bit for bit, 37 frames (no multiple of any
+    # width); and the float64 result to float32 rounding: 64 ε of the translations' scale for each
+    # level of the hierarchy (the inputs' rounding and a product's few roundings per level).
+    local32 = local[:37].astype(np.float32)
+    model32 = dqkit.local_to_model(skeleton, local32)
+    assert model32.dtype == np.float32
+    alone = np.array([dqkit.local_to_model(skeleton, local32[f]) for f in range(37)])
+    np.testing.assert_array_equal(model32.view(np.uint32), alone.view(np.uint32))
+    depth = [0] * len(skeleton)
+    for j, p in enumerate(skeleton.parents):
+        depth[j] = 1 if p < 0 else depth[p] + 1
+    np.testing.assert_allclose(model32, model[:37], atol=64 * max(depth) * np.finfo(np.float32).eps * scale)
     # Parents must be signed integers, checked before narrowing: never truncated or wrapped.
     for bad, message in (([-1, 0.7], "J signed integers"), (np.array([0, 1], np.uint8), "J signed integers"),
                          ([-1, 2**40], "joint 1 has parent 1099511627776")):

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 
 #include "dq/anim/pose_blocks.hpp"
 #include "dq/simd/batch.hpp"
@@ -13,6 +14,18 @@ namespace dq::simd {
 /// Runs the job with the dispatched product: bit for bit job.run()'s result. Precondition:
 /// job.validate().
 void run(const BlockedForwardKinematicsJob<float>& job);
+
+/// Forward kinematics of many frames stored one after another, each frame's joints in order
+/// (joint j of frame f at [f · J + j], J = parents.size(): a NumPy (F, J, 8) array, or the frames
+/// of dq::sample one after the other): model[j] = model[parent(j)] · local[j] in every frame, with
+/// the dispatched product on as many frames at a time as the vector has lanes, each joint's local
+/// transforms loaded and transposed in place (no copy of the batch in another layout). Bit for bit
+/// the blocked job's result (the product of the batch kernels; the scalar types' float operator*
+/// may differ in the sign of an exact zero, docs/design.md). `model` may not overlap `local`.
+/// Returns the error, and computes nothing, when a parent does not come before its child or the
+/// spans are not one whole number of frames of the same length.
+Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
+                             std::span<DualQuaternion<float>> model);
 
 /// Runs a job on oneTBB's persistent worker threads (in a build without oneTBB: one thread per part,
 /// started for the call), split into block ranges of at most `grain` blocks (16 poses each; oneTBB
