@@ -82,10 +82,10 @@ template <int N>
   store<N>(r.dw + i, q.dual.w), store<N>(r.dx + i, q.dual.x), store<N>(r.dy + i, q.dual.y), store<N>(r.dz + i, q.dual.z);
 }
 
-/// The dual quaternion product of the scalar types (detail::dual_product over detail::hamilton).
+/// The batch product (detail::batch_product: detail::dual_product over detail::hamilton) on lanes.
 template <int N>
 [[gnu::always_inline]] inline DualQuaternion<Lanes<N>> product(const DualQuaternion<Lanes<N>>& a, const DualQuaternion<Lanes<N>>& b) {
-  return detail::dual_product(a, b, [](const Quaternion<Lanes<N>>& l, const Quaternion<Lanes<N>>& r) { return detail::hamilton(l, r); });
+  return detail::batch_product(a, b);
 }
 
 }  // namespace dq::kernels

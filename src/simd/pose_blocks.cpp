@@ -19,12 +19,12 @@ namespace {
 using kernels::Lanes;
 using kernels::load8;
 using kernels::load_records;
-using kernels::store_records;
-using kernels::vec;
 using kernels::product;
 using kernels::store8;
+using kernels::store_records;
 using kernels::store_streaming;
 using kernels::stream_fence;
+using kernels::vec;
 
 constexpr std::size_t kLanes = DualQuaternionBlocks<float>::poses_per_block;
 
@@ -207,13 +207,10 @@ Status local_to_model_frames(std::span<const int> parents, std::span<const DualQ
     default: break;
   }
   // The remaining frames with the same product on scalars.
-  const auto product = [](const DualQuaternion<float>& a, const DualQuaternion<float>& b) {
-    return detail::dual_product(a, b, [](const Quaternion<float>& x, const Quaternion<float>& y) { return detail::hamilton(x, y); });
-  };
   for (std::size_t f = done; f < frames; ++f)
     for (std::size_t j = 0; j < joints; ++j) {
       const int p = parents[j];
-      out[f * joints + j] = p < 0 ? in[f * joints + j] : product(out[f * joints + static_cast<std::size_t>(p)], in[f * joints + j]);
+      out[f * joints + j] = p < 0 ? in[f * joints + j] : detail::batch_product(out[f * joints + static_cast<std::size_t>(p)], in[f * joints + j]);
     }
   return {};
 }

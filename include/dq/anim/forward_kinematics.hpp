@@ -145,10 +145,16 @@ Row8<X> row_of(Components& c, std::size_t offset) {
   return {c[0].data() + offset, c[1].data() + offset, c[2].data() + offset, c[3].data() + offset,
           c[4].data() + offset, c[5].data() + offset, c[6].data() + offset, c[7].data() + offset};
 }
-/// out[i] = a[i] · b[i] for i in [first, last), component arrays; the rows never overlap (a parent
-/// row is a different joint), which the restrict-qualified copies tell the compiler, so that it
-/// vectorizes across poses. The product is the one of the scalar types (detail::dual_product with
-/// detail::hamilton), written once.
+/// The product of the batch jobs and kernels: detail::dual_product over detail::hamilton, for any
+/// scalar (float, double, or the kernels' lanes), written once. The scalar types' float operator*
+/// (four-lane) may differ from it in the sign of an exact zero (docs/design.md).
+template <class T>
+[[gnu::always_inline]] constexpr DualQuaternion<T> batch_product(const DualQuaternion<T>& a, const DualQuaternion<T>& b) noexcept {
+  return dual_product(a, b, [](const Quaternion<T>& l, const Quaternion<T>& r) { return hamilton(l, r); });
+}
+/// out[i] = a[i] · b[i] (batch_product) for i in [first, last), component arrays; the rows never
+/// overlap (a parent row is a different joint), which the restrict-qualified copies tell the
+/// compiler, so that it vectorizes across poses.
 template <class T>
 void dual_quaternion_product_rows(Row8<const T> a, Row8<const T> b, Row8<T> out, std::size_t first, std::size_t last) {
   const T* __restrict aw = a.rw; const T* __restrict ax = a.rx; const T* __restrict ay = a.ry; const T* __restrict az = a.rz;
@@ -161,9 +167,8 @@ void dual_quaternion_product_rows(Row8<const T> a, Row8<const T> b, Row8<T> out,
 #pragma GCC ivdep  // GCC 12 does not vectorize this loop from the restrict copies alone
 #endif
   for (std::size_t i = first; i < last; ++i) {
-    const DualQuaternion<T> p = dual_product(DualQuaternion<T>{aw[i], ax[i], ay[i], az[i], cw[i], cx[i], cy[i], cz[i]},
-                                             DualQuaternion<T>{bw[i], bx[i], by[i], bz[i], ew[i], ex[i], ey[i], ez[i]},
-                                             [](const Quaternion<T>& l, const Quaternion<T>& r) { return hamilton(l, r); });
+    const DualQuaternion<T> p = batch_product(DualQuaternion<T>{aw[i], ax[i], ay[i], az[i], cw[i], cx[i], cy[i], cz[i]},
+                                              DualQuaternion<T>{bw[i], bx[i], by[i], bz[i], ew[i], ex[i], ey[i], ez[i]});
     ow[i] = p.real.w, ox[i] = p.real.x, oy[i] = p.real.y, oz[i] = p.real.z;
     pw[i] = p.dual.w, px[i] = p.dual.x, py[i] = p.dual.y, pz[i] = p.dual.z;
   }
