@@ -129,14 +129,20 @@ auto unary32(Kernel kernel) {
     });
   };
 }
-void compose32(const DQ<float>* a, const DQ<float>* b, DQ<float>* out, std::size_t n) {
+/// out[i] = kernel(a[i], b[i]) for a kernel over two arrays of dual quaternions (compose, dlb with its t).
+template <class Kernel>
+void pairs32(const DQ<float>* a, const DQ<float>* b, DQ<float>* out, std::size_t n, Kernel kernel) {
   Chunk<8> ca, cb;
   in_chunks(n, [&](std::size_t i, std::size_t m) {
     dq::simd::to_rows({a + i, m}, ca.rows());
     dq::simd::to_rows({b + i, m}, cb.rows());
-    dq::simd::compose(std::as_const(ca).rows(), std::as_const(cb).rows(), ca.rows(), m);
+    kernel(std::as_const(ca).rows(), std::as_const(cb).rows(), ca.rows(), m);
     dq::simd::from_rows(std::as_const(ca).rows(), {out + i, m});
   });
+}
+void compose32(const DQ<float>* a, const DQ<float>* b, DQ<float>* out, std::size_t n) { pairs32(a, b, out, n, dq::simd::compose); }
+void dlb32(const DQ<float>* a, const DQ<float>* b, float t, DQ<float>* out, std::size_t n) {
+  pairs32(a, b, out, n, [t](dq::simd::ConstRows x, dq::simd::ConstRows y, dq::simd::Rows o, std::size_t m) { dq::simd::dlb(x, y, t, o, m); });
 }
 
 void bind_products(py::module_& m) {
@@ -236,7 +242,7 @@ void bind_interpolation(py::module_& m) {
      "Row-wise screw interpolation of (N, 8) unit dual quaternions; t a number or (N,).");
   m.def("dlb", [](ArrayLike a, ArrayLike b, py::object t) {
     return map3<DQ, DQ, DQ>(a, b, t, "a", "b", dq_shape, dq_shape, {8},
-                            [](const auto& x, const auto& y, auto s) { return dq::dlb(x, y, s); });
+                            [](const auto& x, const auto& y, auto s) { return dq::dlb(x, y, s); }, dlb32);
   }, py::arg("a"), py::arg("b"), py::arg("t"), "Row-wise dual quaternion linear blending of (N, 8) keys; t a number or (N,).");
 }
 

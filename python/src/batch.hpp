@@ -90,10 +90,12 @@ py::object interpolation_parameter(const py::object& t) {
   return py::array_t<T>(std::vector<py::ssize_t>{}, &value);
 }
 
-/// out[i] = f(a[i], b[i], t[i]) with t a number or an (N,) array.
-template <template <class> class A, template <class> class B, template <class> class R, class F>
+/// out[i] = f(a[i], b[i], t[i]) with t a number or an (N,) array. `rows32`, where given, computes
+/// the same for float32 rows of a and b and one t in one call (`rows32(x, y, t, o, n)`).
+template <template <class> class A, template <class> class B, template <class> class R, class F, class Rows32 = std::nullptr_t>
 py::array map3(py::handle a, py::handle b, const py::object& t, const char* na, const char* nb,
-               const std::vector<const char*>& sa, const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f) {
+               const std::vector<const char*>& sa, const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f,
+               Rows32 rows32 = nullptr) {
   return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
     const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);
     const BatchInput it = batch_input(interpolation_parameter<T>(t), {"N"}, dtype_of_v<T>, "t", true);
@@ -106,6 +108,12 @@ py::array map3(py::handle a, py::handle b, const py::object& t, const char* na, 
     const T* s = data_of<T>(it);
     R<T>* o = as_values<R<T>>(out.mutable_data());
     py::gil_scoped_release release;
+    if constexpr (std::is_same_v<T, float> && !std::is_null_pointer_v<Rows32>) {
+      if (da == 1 && db == 1 && dt == 0) {
+        rows32(x, y, s[0], o, n);
+        return out;
+      }
+    }
     for (std::size_t i = 0; i < n; ++i) o[i] = f(x[i * da], y[i * db], s[i * dt]);
     return out;
   });

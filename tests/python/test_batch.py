@@ -106,9 +106,9 @@ def test_float32_matches_float64(name, rng):
 
 
 def test_float32_rows_take_the_vector_kernels_bit_for_bit(rng):
-    """float32 rows of compose, transform_points, transform_directions, normalized and conjugate run
-    dq::simd's kernels (in chunks of 256 rows converted on the stack): each row's result is, bit for
-    bit, the one computed for that row alone (fewer rows than a vector: the scalar formula)."""
+    """float32 rows of compose, transform_points, transform_directions, normalized, conjugate and dlb
+    (one t) run dq::simd's kernels (in chunks of 256 rows converted on the stack): each row's result
+    is, bit for bit, the one computed for that row alone (fewer rows than a vector: the scalar formula)."""
     n = 1003  # three whole chunks and a tail that is no multiple of any vector width
     a = random_rigid(rng, n)[0].astype(np.float32)
     b = random_rigid(rng, n)[0].astype(np.float32)
@@ -123,6 +123,11 @@ def test_float32_rows_take_the_vector_kernels_bit_for_bit(rng):
         assert whole.dtype == np.float32
         alone = np.array([f(*(x[i] for x in args)) for i in range(n)])
         np.testing.assert_array_equal(whole.view(np.uint32), alone.view(np.uint32), err_msg=f.__name__)
+    for t in (0.3, -0.5, 1.7):  # dlb takes any t (extrapolation too)
+        whole = dqkit.dlb(a, scaled, t)
+        assert whole.dtype == np.float32
+        alone = np.array([dqkit.dlb(a[i], scaled[i], t) for i in range(n)])
+        np.testing.assert_array_equal(whole.view(np.uint32), alone.view(np.uint32), err_msg=f"dlb, t = {t}")
 
 
 def test_non_contiguous_inputs_are_read_correctly(rng):

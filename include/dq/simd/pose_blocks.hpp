@@ -19,7 +19,8 @@ void run(const BlockedForwardKinematicsJob<float>& job);
 /// (joint j of frame f at [f · J + j], J = parents.size(): a NumPy (F, J, 8) array, or the frames
 /// of dq::sample one after the other): model[j] = model[parent(j)] · local[j] in every frame, with
 /// the dispatched product on as many frames at a time as the vector has lanes, each joint's local
-/// transforms loaded and transposed in place (no copy of the batch in another layout). Bit for bit
+/// transforms loaded and transposed in place (no copy of the batch in another layout; the model
+/// transforms of up to 128 joints kept transposed on the stack, 64 KB with AVX-512). Bit for bit
 /// the blocked job's result (the product of the batch kernels; the scalar types' float operator*
 /// may differ in the sign of an exact zero, docs/design.md). `model` may not overlap `local`.
 /// Returns the error, and computes nothing, when a parent does not come before its child or the
