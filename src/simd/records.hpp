@@ -1,7 +1,8 @@
 // Records of C floats (a bone's palette entry, a dual quaternion of an array of structures) moved
 // into and out of C component vectors of N lanes, one record per lane: whole-record loads and
 // stores, and transposes with shuffles (no gathers or scatters). Used by the skinning kernels
-// (src/skin/skinning.cpp) and the layout conversions of src/simd/batch.cpp. Private to dqkit.
+// (src/skin/skinning.cpp), the layout conversions of src/simd/batch.cpp and the forward kinematics
+// of frames of src/simd/pose_blocks.cpp. Private to dqkit.
 #pragma once
 
 #include <cstring>
