@@ -183,8 +183,7 @@ void run(const BlockedForwardKinematicsJob<float>& job) {
 Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                              std::span<DualQuaternion<float>> model) {
   const std::size_t joints = parents.size();
-  for (std::size_t j = 0; j < joints; ++j)
-    if (parents[j] >= static_cast<int>(j)) return Error{"joint " + std::to_string(j) + ": parent does not come before it"};
+  if (Status order = detail::parents_in_order(parents); !order) return order;
   if (local.size() != model.size() || (joints == 0 ? !local.empty() : local.size() % joints != 0))
     return Error{"local and model must hold the same whole number of frames of " + std::to_string(joints) + " joints"};
   if (local.empty()) return {};

@@ -128,6 +128,12 @@ class DualQuaternionSoAStorage {
 };
 
 namespace detail {
+/// The batch jobs' first check: every joint's parent comes before it (roots: negative).
+inline Status parents_in_order(std::span<const int> parents) {
+  for (std::size_t j = 0; j < parents.size(); ++j)
+    if (parents[j] >= static_cast<int>(j)) return Error{"joint " + std::to_string(j) + ": parent does not come before it"};
+  return {};
+}
 /// Eight component pointers of a row of dual quaternions.
 template <class T>
 struct Row8 {
@@ -187,8 +193,7 @@ struct ForwardKinematicsJob {
 
   Status validate() const {
     const std::size_t joints = parents.size();
-    for (std::size_t j = 0; j < joints; ++j)
-      if (parents[j] >= static_cast<int>(j)) return Error{"joint " + std::to_string(j) + ": parent does not come before it"};
+    if (Status order = detail::parents_in_order(parents); !order) return order;
     if (local.stride != model.stride) return Error{"local and model strides differ"};
     if (first_pose > local.stride || pose_count > local.stride - first_pose) return Error{"pose range exceeds the stride"};
     if (joints != 0 && local.stride > std::numeric_limits<std::size_t>::max() / joints) return Error{"joints × stride overflows the address range"};

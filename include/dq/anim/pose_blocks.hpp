@@ -130,8 +130,7 @@ struct BlockedForwardKinematicsJob {
 
   Status validate() const {
     const std::size_t joints = parents.size();
-    for (std::size_t j = 0; j < joints; ++j)
-      if (parents[j] >= static_cast<int>(j)) return Error{"joint " + std::to_string(j) + ": parent does not come before it"};
+    if (Status order = detail::parents_in_order(parents); !order) return order;
     if (local.joints != joints || model.joints != joints) return Error{"the local and model blocks must have one joint per parent entry"};
     if (local.blocks != model.blocks) return Error{"local and model hold different numbers of blocks"};
     if (first_block > local.blocks || block_count > local.blocks - first_block) return Error{"block range exceeds the blocks held"};
