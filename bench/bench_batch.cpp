@@ -3,9 +3,12 @@
 // 32 MB on some machines of this kind and 260 MB on others), one and two threads, and the peak
 // rate of vector multiply-adds; then forward kinematics of 10,000 and 100,000 skeletons of 64
 // joints (dqkit's run-time dispatched kernel, the scalar job, Eigen Isometry3f and Matrix4f pose by
-// pose; one and two threads), one skeleton at a time, transforming points, and composing arrays hot in cache and
-// in DRAM, against Eigen and GLM in the same binary; inverse, directions, normalize, DLB and
-// sclerp over 4096 elements hot in cache against GLM, Eigen and dqkit's scalar sclerp per element;
+// pose; one and two threads), one skeleton at a time, 1024 frames stored one after another
+// (local_to_model_frames against dq::local_to_model frame by frame), transforming points, and
+// composing arrays hot in cache and in DRAM, against Eigen and GLM in the same binary; inverse,
+// directions, normalize, DLB, sclerp and the layout conversions (to_rows, from_rows) over 4096
+// elements hot in cache against GLM, Eigen, dqkit's scalar sclerp per element and the
+// component-by-component loop;
 // and each of these kernels on every instruction set the CPU has, the target forced (OnTarget).
 // Every variant's result is checked once,
 // outside the timing, against dqkit's scalar types (the OnTarget cases' results are not: the tests
