@@ -3,12 +3,13 @@
 // 32 MB on some machines of this kind and 260 MB on others), one and two threads, and the peak
 // rate of vector multiply-adds; then forward kinematics of 10,000 and 100,000 skeletons of 64
 // joints (dqkit's run-time dispatched kernel, the scalar job, Eigen Isometry3f and Matrix4f pose by
-// pose; one and two threads), one skeleton at a time, 1024 frames stored one after another
-// (local_to_model_frames against dq::local_to_model frame by frame), transforming points, and
+// pose; one and two threads), one skeleton at a time, frames stored one after another (1024 in
+// cache: local_to_model_frames against dq::local_to_model frame by frame; 100,000 in DRAM, one and
+// two threads), transforming points, and
 // composing arrays hot in cache and in DRAM, against Eigen and GLM in the same binary; inverse,
 // directions, normalize, DLB, sclerp and the layout conversions (to_rows, from_rows) over 4096
 // elements hot in cache against GLM, Eigen, dqkit's scalar sclerp per element and the
-// component-by-component loop;
+// component-by-component loop, and the layout conversions over arrays of 4 × LLC;
 // and each of these kernels on every instruction set the CPU has, the target forced (OnTarget).
 // Every variant's result is checked once,
 // outside the timing, against dqkit's scalar types (the OnTarget cases' results are not: the tests
@@ -19,6 +20,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cstring>
 #include <glm/gtx/dual_quaternion.hpp>
 #include <glm/gtx/norm.hpp>  // length2, which mat3x4_cast uses
 #include <random>
@@ -260,22 +262,29 @@ void FkOneSkeletonEigen(benchmark::State& s) {
 
 /// Frames stored one after another (frame f's joint j at [f · 64 + j], a NumPy (F, J, 8) array):
 /// simd::local_to_model_frames, which loads and transposes them in place, against dq::local_to_model
-/// frame by frame (what the Python binding ran before). The first `frames` poses of the 10,000.
+/// frame by frame (what the Python binding ran before). The first `frames` poses of the 10,000
+/// skeletons, or all of the 100,000 (in DRAM, as FK of 100,000 skeletons: 410 MB).
 struct Frames {
   std::vector<DualQuaternion<float>> local, model;
   explicit Frames(std::size_t frames) : model(frames * kJoints) {
-    const auto v = skeletons(10'000).local.view();
+    local.reserve(frames * kJoints);
+    const auto v = skeletons(frames <= 10'000 ? 10'000 : 100'000).local.view();
     for (std::size_t f = 0; f < frames; ++f)
       for (std::size_t j = 0; j < kJoints; ++j) local.push_back(v.get(j, f));
   }
 };
+/// Arguments: frames, threads (local_to_model_frames_parallel on two).
 void FkFramesDispatched(benchmark::State& state) {
   const auto frames = static_cast<std::size_t>(state.range(0));
+  const auto threads = static_cast<unsigned>(state.range(1));
   Frames x(frames);
   const std::vector<int>& parents = skeletons(10'000).parents;
   state.SetLabel(std::string(simd::to_string(simd::current_target())));
   for (auto _ : state) {
-    (void)simd::local_to_model_frames(parents, x.local, x.model);
+    if (threads == 1)
+      (void)simd::local_to_model_frames(parents, x.local, x.model);
+    else
+      (void)simd::local_to_model_frames_parallel(parents, x.local, x.model, threads);
     benchmark::ClobberMemory();
   }
   report_fk(state, frames);
@@ -674,6 +683,38 @@ void FromRowsLoop(benchmark::State& state) {
       [&] { k.from_rows(); }, [&](std::size_t i, const DualQuaternion<float>& q) { return q == k.dq_out[i]; });
 }
 
+/// The conversions over arrays of 4 × LLC (the DRAM Arrays): 32 bytes read and 32 written per
+/// dual quaternion, reported as a fraction of the copy roofline. Argument 0: to_rows, from the
+/// array of values to the component arrays; 1: from_rows, back into a second array of values.
+void RowsDram(benchmark::State& state) {
+  Arrays& a = arrays(dram_floats() / 8);
+  const std::size_t n = a.dq.size();
+  const bool to = state.range(0) == 0;
+  std::vector<DualQuaternion<float>> values(to ? 0 : n, DualQuaternion<float>());  // filled before timing
+  const auto convert = [&] {
+    if (to)
+      simd::to_rows(a.dq, simd::rows(a.o8));
+    else
+      simd::from_rows(simd::rows(std::as_const(a.c)), values);
+  };
+  state.SetLabel(std::string(simd::to_string(simd::current_target())));
+  convert();  // untimed: see warm_up_note
+  for (auto _ : state) {
+    convert();
+    benchmark::ClobberMemory();
+  }
+  // Checked once: every 97th element, bit for bit.
+  for (std::size_t i = 0; i < n; i += 97) {
+    float q[8];
+    for (std::size_t c = 0; c < 8; ++c) q[c] = to ? a.o8[c][i] : a.c[c][i];
+    if (std::memcmp(q, to ? &a.dq[i] : &values[i], sizeof q) != 0) return state.SkipWithError("the conversion changed a value");
+  }
+  state.counters["per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations() * n * 64));
+  if (copy_bandwidth() > 0)
+    state.counters["roofline"] = benchmark::Counter(static_cast<double>(state.iterations() * n * 64) / copy_bandwidth(), benchmark::Counter::kIsRate);
+}
+
 /// A dispatched kernel on the hot arrays with the instruction set forced (simd::ScopedTarget): what
 /// each target brings, measured in one run. Registered in main for every target this CPU has.
 void OnTarget(benchmark::State& state, void (KernelArrays::*kernel)(), simd::Target target) {
@@ -718,7 +759,7 @@ BENCHMARK(FkScalarJob)->Arg(10'000)->Arg(100'000)->UseRealTime();
 BENCHMARK(FkEigenPerPose<Eigen::Isometry3f>)->Name("FkEigenPerPose")->Arg(10'000)->UseRealTime();
 BENCHMARK(FkEigenPerPose<Eigen::Matrix4f>)->Name("FkEigenMatrix4fPerPose")->Arg(10'000)->UseRealTime();
 BENCHMARK(FkOneSkeletonDualQuaternion);
-BENCHMARK(FkFramesDispatched)->Arg(1024)->UseRealTime();
+BENCHMARK(FkFramesDispatched)->Args({1024, 1})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
 BENCHMARK(FkFramesPerFrame)->Arg(1024)->UseRealTime();
 BENCHMARK(FkOneSkeletonEigen<Eigen::Isometry3f>)->Name("FkOneSkeletonEigenIsometry3f");
 BENCHMARK(FkOneSkeletonEigen<Eigen::Matrix4f>)->Name("FkOneSkeletonEigenMatrix4f");
@@ -747,3 +788,4 @@ BENCHMARK(ToRowsDispatched);
 BENCHMARK(ToRowsLoop);
 BENCHMARK(FromRowsDispatched);
 BENCHMARK(FromRowsLoop);
+BENCHMARK(RowsDram)->Arg(0)->Arg(1)->UseRealTime();

@@ -270,8 +270,10 @@ def main(results):
         ("FkDispatched/100000/1/real_time", "100,000 skeletons, dqkit joint-major, dispatched, 1 thread"),
         ("FkDispatched/100000/2/real_time", "100,000 skeletons, dqkit joint-major, dispatched, 2 threads"),
         ("FkScalarJob/100000/real_time", "100,000 skeletons, dqkit joint-major job, auto-vectorized"),
-        ("FkFramesDispatched/1024/real_time", "1024 frames one after another (NumPy's (F, J, 8)), `local_to_model_frames`, 1 thread"),
+        ("FkFramesDispatched/1024/1/real_time", "1024 frames one after another (NumPy's (F, J, 8)), `local_to_model_frames`, 1 thread"),
         ("FkFramesPerFrame/1024/real_time", "1024 frames one after another, `dq::local_to_model` frame by frame"),
+        ("FkFramesDispatched/100000/1/real_time", "100,000 frames one after another, `local_to_model_frames`, 1 thread"),
+        ("FkFramesDispatched/100000/2/real_time", "100,000 frames one after another, `local_to_model_frames_parallel`, 2 threads"),
     ):
         if name not in b:
             continue  # a run of the suite before the case existed
@@ -322,6 +324,14 @@ def main(results):
         for peer, label in peers:
             theirs = b[peer]["per_s"]
             add(f"| `{kernel[0].lower() + ''.join('_' + ch.lower() if ch.isupper() else ch for ch in kernel[1:])}` | {fmt(mine)} | {label} | {fmt(theirs)} | {mine / theirs:.2f} |")
+    if "RowsDram/0/real_time" in b:  # a run of the suite before the case existed has none
+        add("")
+        add("### The layout conversions over arrays of 4 × LLC (32 bytes read and 32 written per dual quaternion)")
+        add("| conversion | per second | bytes/s | fraction of the 1-thread copy roofline |")
+        add("| --- | ---: | ---: | ---: |")
+        for arg, name in (("0", "`to_rows`"), ("1", "`from_rows`")):
+            r = b[f"RowsDram/{arg}/real_time"]
+            add(f"| {name}, dispatched | {fmt(r['per_s'])} | {fmt(r['bytes_per_second'], 'B/s')} | {r['bytes_per_second'] / copy1:.2f} |")
     on_target_table(add, b, "OnTarget", "### Each kernel on each instruction set (the target forced; 4096 elements hot in cache, per second)", "per_s")
     add("")
     one_at_a_time(add, c, "portable build")

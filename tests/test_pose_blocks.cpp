@@ -183,6 +183,43 @@ TEST(PoseBlocks, FramesOneAfterAnotherGiveTheBlockedJobsResultBitForBit) {
   EXPECT_EQ(simd::local_to_model_frames(kParents, local, std::span(local)).error().message, "model must not overlap local");
 }
 
+TEST(PoseBlocks, FramesOnThreadsGiveTheOneThreadResult) {
+  // local_to_model_frames_parallel split into parts of 16 and 32 frames (the last one partial),
+  // on two threads and on all: bit for bit the one-thread function's result, nothing outside
+  // `model` written; its errors come before any work.
+  const std::size_t joints = kParents.size();
+  test::Random rng(6);
+  for (const std::size_t frames : {std::size_t{0}, std::size_t{5}, std::size_t{16}, std::size_t{17}, std::size_t{100}, std::size_t{333}}) {
+    std::vector<DualQuaternion<float>> local(frames * joints), want(frames * joints);
+    for (auto& q : local) q = rng.rigid<float>(3);
+    ASSERT_TRUE(simd::local_to_model_frames(kParents, local, want).ok());
+    for (const unsigned threads : {2u, 0u})
+      for (const std::size_t grain : {std::size_t{16}, std::size_t{32}}) {
+        const DualQuaternion<float> guard(1, 2, 3, 4, 5, 6, 7, 8);
+        std::vector<DualQuaternion<float>> model(frames * joints + 2, guard);
+        ASSERT_TRUE(simd::local_to_model_frames_parallel(kParents, local, std::span(model).subspan(1, frames * joints), threads, grain).ok());
+        ASSERT_TRUE(std::memcmp(&model.front(), &guard, sizeof guard) == 0 && std::memcmp(&model.back(), &guard, sizeof guard) == 0)
+            << "frames " << frames;
+        for (std::size_t f = 0; f < frames; ++f)
+          for (std::size_t j = 0; j < joints; ++j) expect_same_bits(model[1 + f * joints + j], want[f * joints + j], j, f);
+      }
+  }
+  // Overlapping spans whose parts would not overlap (model 64 frames after local, parts of 16):
+  // refused as a whole, every value left as it was.
+  std::vector<DualQuaternion<float>> buffer(164 * joints);
+  for (auto& q : buffer) q = rng.rigid<float>(3);
+  const std::vector<DualQuaternion<float>> before = buffer;
+  const std::span<DualQuaternion<float>> all(buffer);
+  EXPECT_EQ(simd::local_to_model_frames_parallel(kParents, all.first(100 * joints), all.subspan(64 * joints), 2, 16).error().message,
+            "model must not overlap local");
+  const std::vector<int> late{-1, 2, 0};
+  EXPECT_EQ(simd::local_to_model_frames_parallel(late, all.first(3), all.subspan(3, 3), 2, 16).error().message,
+            "joint 1: parent does not come before it");
+  EXPECT_EQ(simd::local_to_model_frames_parallel(kParents, all.first(joints + 1), all.subspan(2 * joints, joints + 1)).error().message,
+            "local and model must hold the same whole number of frames of 11 joints");
+  EXPECT_EQ(std::memcmp(buffer.data(), before.data(), buffer.size() * sizeof buffer[0]), 0);
+}
+
 // Streaming stores need a copy of one block's joints on the stack (128 at most) and model storage
 // aligned for the widest vector: beyond those, the job falls back to cached stores, with the same
 // results (a non-temporal store to an address not aligned to its vector faults: 16 bytes off is

@@ -180,17 +180,25 @@ void run(const BlockedForwardKinematicsJob<float>& job) {
   }
 }
 
-Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
-                             std::span<DualQuaternion<float>> model) {
+Status detail::check_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
+                            std::span<const DualQuaternion<float>> model) {
   const std::size_t joints = parents.size();
-  if (Status order = detail::parents_in_order(parents); !order) return order;
+  if (Status order = dq::detail::parents_in_order(parents); !order) return order;
   if (local.size() != model.size() || (joints == 0 ? !local.empty() : local.size() % joints != 0))
     return Error{"local and model must hold the same whole number of frames of " + std::to_string(joints) + " joints"};
+  const auto address = [](const void* x) { return reinterpret_cast<std::uintptr_t>(x); };
+  if (!local.empty() && address(model.data()) < address(local.data() + local.size()) && address(local.data()) < address(model.data() + model.size()))
+    return Error{"model must not overlap local"};
+  return {};
+}
+
+Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
+                             std::span<DualQuaternion<float>> model) {
+  if (Status s = detail::check_frames(parents, local, model); !s) return s;
   if (local.empty()) return {};
+  const std::size_t joints = parents.size();
   const auto* in = local.data();
   auto* out = model.data();
-  const auto address = [](const void* x) { return reinterpret_cast<std::uintptr_t>(x); };
-  if (address(out) < address(in + local.size()) && address(in) < address(out + model.size())) return Error{"model must not overlap local"};
   static_assert(sizeof(DualQuaternion<float>) == 8 * sizeof(float) && std::is_trivially_copyable_v<DualQuaternion<float>>);
   const std::size_t frames = local.size() / joints;
   [[maybe_unused]] const float* l = reinterpret_cast<const float*>(in);
@@ -209,7 +217,7 @@ Status local_to_model_frames(std::span<const int> parents, std::span<const DualQ
   for (std::size_t f = done; f < frames; ++f)
     for (std::size_t j = 0; j < joints; ++j) {
       const int p = parents[j];
-      out[f * joints + j] = p < 0 ? in[f * joints + j] : detail::batch_product(out[f * joints + static_cast<std::size_t>(p)], in[f * joints + j]);
+      out[f * joints + j] = p < 0 ? in[f * joints + j] : dq::detail::batch_product(out[f * joints + static_cast<std::size_t>(p)], in[f * joints + j]);
     }
   return {};
 }

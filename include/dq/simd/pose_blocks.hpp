@@ -28,6 +28,20 @@ void run(const BlockedForwardKinematicsJob<float>& job);
 Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                              std::span<DualQuaternion<float>> model);
 
+namespace detail {
+/// local_to_model_frames' checks of its arguments: the error it returns, or none.
+Status check_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
+                    std::span<const DualQuaternion<float>> model);
+}  // namespace detail
+
+/// local_to_model_frames on oneTBB's persistent worker threads (in a build without oneTBB: one
+/// thread per part, started for the call): the frames split into ranges of at most `grain` frames,
+/// at multiples of 16 frames (whole vectors on every target, so only the last range has a scalar
+/// tail), each computed by one task. `threads` limits the workers used (0: every hardware thread).
+/// Bit for bit local_to_model_frames' result, with the same errors, returned before any work.
+Status local_to_model_frames_parallel(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
+                                      std::span<DualQuaternion<float>> model, unsigned threads = 0, std::size_t grain = 256);
+
 /// Runs a job on oneTBB's persistent worker threads (in a build without oneTBB: one thread per part,
 /// started for the call), split into block ranges of at most `grain` blocks (16 poses each; oneTBB
 /// halves a range while it is longer), each written by one task. `threads` limits the workers used (0: every
