@@ -184,22 +184,23 @@ TEST(PoseBlocks, FramesOneAfterAnotherGiveTheBlockedJobsResultBitForBit) {
 }
 
 TEST(PoseBlocks, FramesOnThreadsGiveTheOneThreadResult) {
-  // local_to_model_frames_parallel split into parts of 16 and 32 frames (the last one partial),
-  // on two threads and on all: bit for bit the one-thread function's result, nothing outside
-  // `model` written; its errors come before any work.
+  // local_to_model_frames_parallel with grains below, at and above its 16-frame unit, and none a
+  // multiple of the frame counts (so the last range is partial), on one thread (a oneTBB arena of
+  // one), two and all: bit for bit the one-thread function's result, nothing outside `model`
+  // written; its errors come before any work.
   const std::size_t joints = kParents.size();
   test::Random rng(6);
   for (const std::size_t frames : {std::size_t{0}, std::size_t{5}, std::size_t{16}, std::size_t{17}, std::size_t{100}, std::size_t{333}}) {
     std::vector<DualQuaternion<float>> local(frames * joints), want(frames * joints);
     for (auto& q : local) q = rng.rigid<float>(3);
     ASSERT_TRUE(simd::local_to_model_frames(kParents, local, want).ok());
-    for (const unsigned threads : {2u, 0u})
-      for (const std::size_t grain : {std::size_t{16}, std::size_t{32}}) {
+    for (const unsigned threads : {1u, 2u, 0u})
+      for (const std::size_t grain : {std::size_t{0}, std::size_t{7}, std::size_t{16}, std::size_t{40}, std::size_t{256}}) {
         const DualQuaternion<float> guard(1, 2, 3, 4, 5, 6, 7, 8);
         std::vector<DualQuaternion<float>> model(frames * joints + 2, guard);
         ASSERT_TRUE(simd::local_to_model_frames_parallel(kParents, local, std::span(model).subspan(1, frames * joints), threads, grain).ok());
         ASSERT_TRUE(std::memcmp(&model.front(), &guard, sizeof guard) == 0 && std::memcmp(&model.back(), &guard, sizeof guard) == 0)
-            << "frames " << frames;
+            << "frames " << frames << ", threads " << threads << ", grain " << grain;
         for (std::size_t f = 0; f < frames; ++f)
           for (std::size_t j = 0; j < joints; ++j) expect_same_bits(model[1 + f * joints + j], want[f * joints + j], j, f);
       }

@@ -16,8 +16,9 @@ namespace dq::simd {
 namespace {
 
 /// Calls part(begin, count) on ranges that split [first, first + count), on oneTBB's workers (at
-/// most `threads` of them; 0: all), which split a range while it is longer than `grain` (so parts
-/// hold between about grain/2 and grain items).
+/// most `threads` of them; 0: all), which split a range only while it is longer than `grain`, and
+/// only as far as the workers need (oneTBB's automatic partitioner): parts hold about grain/2 items
+/// or more.
 template <class Part>
 void split(std::size_t first, std::size_t count, unsigned threads, std::size_t grain, const Part& part) {
   grain = std::max<std::size_t>(1, grain);

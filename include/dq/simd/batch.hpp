@@ -166,8 +166,9 @@ void from_rows(std::array<const float*, 3> in, std::span<Vec3<float>> out);
 void run(const ForwardKinematicsJob<float>& job);
 
 /// Runs a job on oneTBB's persistent worker threads (no thread is started per call; in a build
-/// without oneTBB, one thread per part, started for the call), split into pose ranges of at most
-/// `grain` poses (oneTBB halves a range while it is longer), each written by one task (no
+/// without oneTBB, one thread per part, started for the call), split into pose ranges of about
+/// `grain` poses or more (oneTBB splits a range only while it is longer than `grain`, as far as its
+/// workers need; without oneTBB, one range per thread), each written by one task (no
 /// synchronization needed).
 /// `threads` limits the workers used (0: every hardware thread). Float jobs use the vectorized
 /// product (run above). Returns the job's validation error instead of running an invalid job.

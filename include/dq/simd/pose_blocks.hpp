@@ -35,16 +35,18 @@ Status check_frames(std::span<const int> parents, std::span<const DualQuaternion
 }  // namespace detail
 
 /// local_to_model_frames on oneTBB's persistent worker threads (in a build without oneTBB: one
-/// thread per part, started for the call): the frames split into ranges of at most `grain` frames,
-/// at multiples of 16 frames (whole vectors on every target, so only the last range has a scalar
-/// tail), each computed by one task. `threads` limits the workers used (0: every hardware thread).
+/// thread per part, started for the call): the frames split at multiples of 16 frames (whole
+/// vectors on every target, so only the last range has a scalar tail) into ranges of about `grain`
+/// frames or more (at least 16; oneTBB splits a range only while it is longer than `grain`, as far
+/// as its workers need; without oneTBB, one range per thread), each computed by one task. `threads` limits the workers used (0: every hardware thread).
 /// Bit for bit local_to_model_frames' result, with the same errors, returned before any work.
 Status local_to_model_frames_parallel(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                                       std::span<DualQuaternion<float>> model, unsigned threads = 0, std::size_t grain = 256);
 
 /// Runs a job on oneTBB's persistent worker threads (in a build without oneTBB: one thread per part,
-/// started for the call), split into block ranges of at most `grain` blocks (16 poses each; oneTBB
-/// halves a range while it is longer), each written by one task. `threads` limits the workers used (0: every
+/// started for the call), split into block ranges of about `grain` blocks or more (16 poses each;
+/// oneTBB splits a range only while it is longer than `grain`, as far as its workers need; without
+/// oneTBB, one range per thread), each written by one task. `threads` limits the workers used (0: every
 /// hardware thread). Float jobs use the dispatched product. Returns the job's validation error
 /// instead of running an invalid job.
 template <class T>
