@@ -184,10 +184,10 @@ TEST(PoseBlocks, FramesOneAfterAnotherGiveTheBlockedJobsResultBitForBit) {
 }
 
 TEST(PoseBlocks, FramesOnThreadsGiveTheOneThreadResult) {
-  // local_to_model_frames_parallel with grains below, at and above its 16-frame unit, and none a
-  // multiple of the frame counts (so the last range is partial), on one thread (a oneTBB arena of
-  // one), two and all: bit for bit the one-thread function's result, nothing outside `model`
-  // written; its errors come before any work.
+  // local_to_model_frames_parallel with grains below, at and above its 16-frame unit, frame counts
+  // that leave the last range partial, on one thread (a oneTBB arena of one), two and all: bit for
+  // bit the one-thread function's result, nothing outside `model` written; its errors come before
+  // any work.
   const std::size_t joints = kParents.size();
   test::Random rng(6);
   for (const std::size_t frames : {std::size_t{0}, std::size_t{5}, std::size_t{16}, std::size_t{17}, std::size_t{100}, std::size_t{333}}) {

@@ -38,8 +38,9 @@ Status check_frames(std::span<const int> parents, std::span<const DualQuaternion
 /// thread per part, started for the call): the frames split at multiples of 16 frames (whole
 /// vectors on every target, so only the last range has a scalar tail) into ranges of about `grain`
 /// frames or more (at least 16; oneTBB splits a range only while it is longer than `grain`, as far
-/// as its workers need; without oneTBB, one range per thread), each computed by one task. `threads` limits the workers used (0: every hardware thread).
-/// Bit for bit local_to_model_frames' result, with the same errors, returned before any work.
+/// as its workers need; without oneTBB, one range per thread), each computed by one task.
+/// `threads` limits the workers used (0: every hardware thread). Bit for bit local_to_model_frames'
+/// result, with the same errors, returned before any work.
 Status local_to_model_frames_parallel(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                                       std::span<DualQuaternion<float>> model, unsigned threads = 0, std::size_t grain = 256);
 
