@@ -4,6 +4,7 @@
 
 #include "dq/simd/batch.hpp"
 #include "dq/simd/pose_blocks.hpp"
+#include "frames.hpp"
 
 #if defined(DQKIT_HAVE_TBB)
 #include <tbb/blocked_range.h>
@@ -80,14 +81,13 @@ Status run_parallel(const BlockedForwardKinematicsJob<T>& job, unsigned threads,
 Status local_to_model_frames_parallel(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                                       std::span<DualQuaternion<float>> model, unsigned threads, std::size_t grain) {
   // Checked over the whole batch first, so that an error leaves all of model untouched.
-  if (Status s = detail::check_frames(parents, local, model); !s) return s;
+  if (Status s = check_frames(parents, local, model); !s) return s;
   if (local.empty()) return {};
   constexpr std::size_t kUnit = 16;  // frames: a whole number of vectors on every target
   const std::size_t joints = parents.size(), frames = local.size() / joints;
   split(0, (frames + kUnit - 1) / kUnit, threads, grain / kUnit, [&](std::size_t first, std::size_t count) {
     const std::size_t begin = first * kUnit * joints, size = std::min(frames, (first + count) * kUnit) * joints - begin;
-    // Checks its part again (the parents' order: one pass over them, against the part's products).
-    (void)local_to_model_frames(parents, local.subspan(begin, size), model.subspan(begin, size));
+    compute_frames(parents, local.subspan(begin, size), model.subspan(begin, size));
   });
   return {};
 }

@@ -8,6 +8,7 @@
 #include <string>
 #include <type_traits>
 
+#include "frames.hpp"
 #include "lanes.hpp"
 #include "records.hpp"
 
@@ -180,10 +181,10 @@ void run(const BlockedForwardKinematicsJob<float>& job) {
   }
 }
 
-Status detail::check_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
-                            std::span<const DualQuaternion<float>> model) {
+Status check_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
+                    std::span<const DualQuaternion<float>> model) {
   const std::size_t joints = parents.size();
-  if (Status order = dq::detail::parents_in_order(parents); !order) return order;
+  if (Status order = detail::parents_in_order(parents); !order) return order;
   if (local.size() != model.size() || (joints == 0 ? !local.empty() : local.size() % joints != 0))
     return Error{"local and model must hold the same whole number of frames of " + std::to_string(joints) + " joints"};
   const auto address = [](const void* x) { return reinterpret_cast<std::uintptr_t>(x); };
@@ -192,10 +193,9 @@ Status detail::check_frames(std::span<const int> parents, std::span<const DualQu
   return {};
 }
 
-Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
-                             std::span<DualQuaternion<float>> model) {
-  if (Status s = detail::check_frames(parents, local, model); !s) return s;
-  if (local.empty()) return {};
+void compute_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
+                    std::span<DualQuaternion<float>> model) {
+  if (local.empty()) return;
   const std::size_t joints = parents.size();
   const auto* in = local.data();
   auto* out = model.data();
@@ -217,8 +217,14 @@ Status local_to_model_frames(std::span<const int> parents, std::span<const DualQ
   for (std::size_t f = done; f < frames; ++f)
     for (std::size_t j = 0; j < joints; ++j) {
       const int p = parents[j];
-      out[f * joints + j] = p < 0 ? in[f * joints + j] : dq::detail::batch_product(out[f * joints + static_cast<std::size_t>(p)], in[f * joints + j]);
+      out[f * joints + j] = p < 0 ? in[f * joints + j] : detail::batch_product(out[f * joints + static_cast<std::size_t>(p)], in[f * joints + j]);
     }
+}
+
+Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
+                             std::span<DualQuaternion<float>> model) {
+  if (Status s = check_frames(parents, local, model); !s) return s;
+  compute_frames(parents, local, model);
   return {};
 }
 

@@ -28,12 +28,6 @@ void run(const BlockedForwardKinematicsJob<float>& job);
 Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                              std::span<DualQuaternion<float>> model);
 
-namespace detail {
-/// local_to_model_frames' checks of its arguments: the error it returns, or none.
-Status check_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
-                    std::span<const DualQuaternion<float>> model);
-}  // namespace detail
-
 /// local_to_model_frames on oneTBB's persistent worker threads (in a build without oneTBB: one
 /// thread per part, started for the call): the frames split at multiples of 16 frames (whole
 /// vectors on every target, so only the last range has a scalar tail) into ranges of about `grain`
