@@ -35,10 +35,11 @@ struct Poses {
   }
 };
 
-void expect_same_bits(const DualQuaternion<float>& a, const DualQuaternion<float>& b, std::size_t j, std::size_t p) {
-  const float* x = &a.real.w;
-  const float* y = &b.real.w;
-  for (int k = 0; k < 8; ++k) ASSERT_TRUE(same_bits(x[k], y[k])) << "joint " << j << " pose " << p << " component " << k;
+template <class T>
+void expect_same_bits(const DualQuaternion<T>& a, const DualQuaternion<T>& b, std::size_t j, std::size_t p) {
+  const T* x = &a.real.w;
+  const T* y = &b.real.w;
+  for (int k = 0; k < 8; ++k) ASSERT_EQ(std::memcmp(x + k, y + k, sizeof(T)), 0) << "joint " << j << " pose " << p << " component " << k;
 }
 
 /// Every value of `data` set to NaN, so that a value a job does not write cannot pass for a result.
@@ -183,22 +184,23 @@ TEST(PoseBlocks, FramesOneAfterAnotherGiveTheBlockedJobsResultBitForBit) {
   EXPECT_EQ(simd::local_to_model_frames(kParents, local, std::span(local)).error().message, "model must not overlap local");
 }
 
-TEST(PoseBlocks, FramesOnThreadsGiveTheOneThreadResult) {
-  // local_to_model_frames_parallel with grains below, at and above its 16-frame unit, frame counts
-  // that leave the last range partial, on one thread (a oneTBB arena of one), two and all: bit for
-  // bit the one-thread function's result, nothing outside `model` written; its errors come before
-  // any work.
+/// local_to_model_frames_parallel<T> with grains below, at and above its 16-frame unit, frame counts
+/// that leave the last range partial, on one thread, two and all: bit for bit the one-thread
+/// function's result, nothing outside `model` written; its errors come before any work.
+template <class T>
+void expect_frames_on_threads_as_on_one() {
   const std::size_t joints = kParents.size();
   test::Random rng(6);
   for (const std::size_t frames : {std::size_t{0}, std::size_t{5}, std::size_t{16}, std::size_t{17}, std::size_t{100}, std::size_t{333}}) {
-    std::vector<DualQuaternion<float>> local(frames * joints), want(frames * joints);
-    for (auto& q : local) q = rng.rigid<float>(3);
-    ASSERT_TRUE(simd::local_to_model_frames(kParents, local, want).ok());
+    std::vector<DualQuaternion<T>> local(frames * joints), want(frames * joints);
+    for (auto& q : local) q = rng.rigid<T>(3);
+    ASSERT_TRUE(simd::local_to_model_frames(kParents, std::span<const DualQuaternion<T>>(local), std::span(want)).ok());
     for (const unsigned threads : {1u, 2u, 0u})
       for (const std::size_t grain : {std::size_t{0}, std::size_t{7}, std::size_t{16}, std::size_t{40}, std::size_t{256}}) {
-        const DualQuaternion<float> guard(1, 2, 3, 4, 5, 6, 7, 8);
-        std::vector<DualQuaternion<float>> model(frames * joints + 2, guard);
-        ASSERT_TRUE(simd::local_to_model_frames_parallel(kParents, local, std::span(model).subspan(1, frames * joints), threads, grain).ok());
+        const DualQuaternion<T> guard(1, 2, 3, 4, 5, 6, 7, 8);
+        std::vector<DualQuaternion<T>> model(frames * joints + 2, guard);
+        ASSERT_TRUE(simd::local_to_model_frames_parallel(kParents, std::span<const DualQuaternion<T>>(local),
+                                                         std::span(model).subspan(1, frames * joints), threads, grain).ok());
         ASSERT_TRUE(std::memcmp(&model.front(), &guard, sizeof guard) == 0 && std::memcmp(&model.back(), &guard, sizeof guard) == 0)
             << "frames " << frames << ", threads " << threads << ", grain " << grain;
         for (std::size_t f = 0; f < frames; ++f)
@@ -207,18 +209,45 @@ TEST(PoseBlocks, FramesOnThreadsGiveTheOneThreadResult) {
   }
   // Overlapping spans whose parts would not overlap (model 64 frames after local, parts of 16):
   // refused as a whole, every value left as it was.
-  std::vector<DualQuaternion<float>> buffer(164 * joints);
-  for (auto& q : buffer) q = rng.rigid<float>(3);
-  const std::vector<DualQuaternion<float>> before = buffer;
-  const std::span<DualQuaternion<float>> all(buffer);
-  EXPECT_EQ(simd::local_to_model_frames_parallel(kParents, all.first(100 * joints), all.subspan(64 * joints), 2, 16).error().message,
+  std::vector<DualQuaternion<T>> buffer(164 * joints);
+  for (auto& q : buffer) q = rng.rigid<T>(3);
+  const std::vector<DualQuaternion<T>> before = buffer;
+  const std::span<DualQuaternion<T>> all(buffer);
+  const auto in = [](std::span<DualQuaternion<T>> x) { return std::span<const DualQuaternion<T>>(x); };
+  EXPECT_EQ(simd::local_to_model_frames_parallel(kParents, in(all.first(100 * joints)), all.subspan(64 * joints), 2, 16).error().message,
             "model must not overlap local");
   const std::vector<int> late{-1, 2, 0};
-  EXPECT_EQ(simd::local_to_model_frames_parallel(late, all.first(3), all.subspan(3, 3), 2, 16).error().message,
+  EXPECT_EQ(simd::local_to_model_frames_parallel(late, in(all.first(3)), all.subspan(3, 3), 2, 16).error().message,
             "joint 1: parent does not come before it");
-  EXPECT_EQ(simd::local_to_model_frames_parallel(kParents, all.first(joints + 1), all.subspan(2 * joints, joints + 1)).error().message,
+  EXPECT_EQ(simd::local_to_model_frames_parallel(kParents, in(all.first(joints + 1)), all.subspan(2 * joints, joints + 1)).error().message,
             "local and model must hold the same whole number of frames of 11 joints");
   EXPECT_EQ(std::memcmp(buffer.data(), before.data(), buffer.size() * sizeof buffer[0]), 0);
+}
+
+TEST(PoseBlocks, FramesOnThreadsGiveTheOneThreadResult) {
+  expect_frames_on_threads_as_on_one<float>();
+  expect_frames_on_threads_as_on_one<double>();
+}
+
+TEST(PoseBlocks, FramesInDoubleAreLocalToModelFrameByFrame) {
+  // The double overload runs dq::local_to_model per frame: bit for bit its result, and the same
+  // checks as float's, with the same messages.
+  const std::size_t joints = kParents.size(), frames = 23;
+  test::Random rng(7);
+  std::vector<DualQuaternion<double>> local(frames * joints), model(frames * joints), want(frames * joints);
+  for (auto& q : local) q = rng.rigid<double>(3);
+  for (std::size_t f = 0; f < frames; ++f)
+    local_to_model<DualQuaternion<double>>(kParents, std::span(local).subspan(f * joints, joints),
+                                           std::span(want).subspan(f * joints, joints));
+  ASSERT_TRUE(simd::local_to_model_frames(kParents, std::span<const DualQuaternion<double>>(local), std::span(model)).ok());
+  for (std::size_t f = 0; f < frames; ++f)
+    for (std::size_t j = 0; j < joints; ++j) expect_same_bits(model[f * joints + j], want[f * joints + j], j, f);
+  const std::span<const DualQuaternion<double>> in(local);
+  EXPECT_EQ(simd::local_to_model_frames(kParents, in, std::span(model).first(joints)).error().message,
+            "local and model must hold the same whole number of frames of 11 joints");
+  EXPECT_EQ(simd::local_to_model_frames(std::vector<int>{-1, 2, 0}, in.first(3), std::span(model).first(3)).error().message,
+            "joint 1: parent does not come before it");
+  EXPECT_EQ(simd::local_to_model_frames(kParents, in, std::span(local)).error().message, "model must not overlap local");
 }
 
 // Streaming stores need a copy of one block's joints on the stack (128 at most) and model storage

@@ -167,6 +167,8 @@ local32 = local.astype(np.float32)
 line(f"forward kinematics of (F, J, 8) = ({F}, {J}, 8) CMU poses", "joints", [
     ("dqkit.local_to_model float64", F * J / best(lambda: dqkit.local_to_model(skeleton, local))),
     ("dqkit.local_to_model float32", F * J / best(lambda: dqkit.local_to_model(skeleton, local32))),
+    ("dqkit.local_to_model float64, 2 thr.", F * J / best(lambda: dqkit.local_to_model(skeleton, local, threads=2))),
+    ("dqkit.local_to_model float32, 2 thr.", F * J / best(lambda: dqkit.local_to_model(skeleton, local32, threads=2))),
     ("NumPy (loop over joints)", F * J / best(lambda: numpy_fk(parents, local))),
     ("scipy Rotation (loop over joints)", F * J / best(lambda: scipy_fk(parents, rots, trans))),
 ])

@@ -1262,8 +1262,8 @@ def interpolate(a: DualQuaternion, b: DualQuaternion, u: float, mode: Interpolat
     """Between two keys at fraction u, as the Interpolation says (screw: sclerp; dual_quaternion_linear: dlb; decoupled; matrix)."""
 def load_motion(path: Union[str, bytes, os.PathLike], options: MotionOptions = ...) -> Motion:
     """A BVH file's motion (other formats: import_motion)."""
-def local_to_model(skeleton: object, local: numpy.typing.ArrayLike) -> numpy.ndarray:
-    """Forward kinematics: model[j] = model[parent(j)] · local[j] for (F, J, 8) or (J, 8) local poses; `skeleton` is a Skeleton or the (J,) parents."""
+def local_to_model(skeleton: object, local: numpy.typing.ArrayLike, threads: int = ...) -> numpy.ndarray:
+    """Forward kinematics: model[j] = model[parent(j)] · local[j] for (F, J, 8) or (J, 8) local poses; `skeleton` is a Skeleton or the (J,) parents. threads: 1 (this thread), n, or 0 (every hardware thread); the result is the same bit for bit."""
 @overload
 def log(x: Dual) -> Dual: ...
 @overload

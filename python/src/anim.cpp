@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "batch.hpp"
 #include "dq/anim/animation.hpp"
@@ -127,9 +128,11 @@ void bind_skeleton(py::module_& m) {
         py::arg("a"), py::arg("b"), py::arg("u"), py::arg("mode"),
         "Between two keys at fraction u, as the Interpolation says (screw: sclerp; dual_quaternion_linear: dlb; decoupled; matrix).");
 
-  m.def("local_to_model", [](py::handle parents_obj, ArrayLike local) {
+  m.def("local_to_model", [](py::handle parents_obj, ArrayLike local, long long threads) {
     const std::vector<int> parents = parents_of(parents_obj);
     const auto joints = std::to_string(parents.size());
+    if (threads < 0 || threads > std::numeric_limits<unsigned>::max())
+      throw py::value_error("threads: expected 0 (every hardware thread) or a number of threads, got " + std::to_string(threads));
     return with_dtype(call_dtype(local, "local"), [&]<class T>() -> py::array {
       const BatchInput in = batch_input(local, {"F", "J", "8"}, dtype_of_v<T>, "local", true);
       const py::ssize_t j_axis = in.array.ndim() - 2;
@@ -143,19 +146,17 @@ void bind_skeleton(py::module_& m) {
       auto* o = as_values<dq::DualQuaternion<T>>(out.mutable_data());
       const std::size_t n = parents.size();
       py::gil_scoped_release release;
-      if constexpr (std::is_same_v<T, float>) {
-        // The frames in place on the vector lanes (validated above: parents_of, the shape).
-        const dq::Status s = dq::simd::local_to_model_frames(parents, std::span(x, frames * n), std::span(o, frames * n));
-        if (!s) throw std::logic_error("local_to_model: " + s.error().message);
-      } else {
-        for (std::size_t f = 0; f < frames; ++f)
-          dq::local_to_model<dq::DualQuaternion<T>>(parents, std::span(x + f * n, n), std::span(o + f * n, n));
-      }
+      // float32 frames on the vector lanes, float64 frame by frame with dq::local_to_model (validated
+      // above: parents_of, the shape); on oneTBB's workers unless threads == 1.
+      const dq::Status s = dq::simd::local_to_model_frames_parallel(parents, std::span(x, frames * n), std::span(o, frames * n),
+                                                                    static_cast<unsigned>(threads));
+      if (!s) throw std::logic_error("local_to_model: " + s.error().message);
       return out;
     });
-  }, py::arg("skeleton"), py::arg("local"),
+  }, py::arg("skeleton"), py::arg("local"), py::arg("threads") = 1,
      "Forward kinematics: model[j] = model[parent(j)] · local[j] for (F, J, 8) or (J, 8) local poses; "
-     "`skeleton` is a Skeleton or the (J,) parents.");
+     "`skeleton` is a Skeleton or the (J,) parents. threads: 1 (this thread), n, or 0 (every hardware thread); "
+     "the result is the same bit for bit.");
 }
 
 void bind_files(py::module_& m) {

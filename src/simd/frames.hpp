@@ -9,12 +9,15 @@
 
 namespace dq::simd {
 
-/// local_to_model_frames' checks of its arguments: the error it returns, or none.
-Status check_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
-                    std::span<const DualQuaternion<float>> model);
+/// local_to_model_frames' checks of its arguments: the error it returns, or none (T = float, double).
+template <class T>
+Status check_frames(std::span<const int> parents, std::span<const DualQuaternion<T>> local,
+                    std::span<const DualQuaternion<T>> model);
 
 /// local_to_model_frames' computation, on arguments that check_frames accepted.
 void compute_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                     std::span<DualQuaternion<float>> model);
+void compute_frames(std::span<const int> parents, std::span<const DualQuaternion<double>> local,
+                    std::span<DualQuaternion<double>> model);
 
 }  // namespace dq::simd

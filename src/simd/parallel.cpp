@@ -17,12 +17,13 @@ namespace dq::simd {
 namespace {
 
 /// Calls part(begin, count) on ranges that split [first, first + count), on oneTBB's workers (at
-/// most `threads` of them; 0: all), which split a range only while it is longer than `grain`, and
-/// only as far as the workers need (oneTBB's automatic partitioner): parts hold about grain/2 items
-/// or more.
+/// most `threads` of them; 0: all; 1: the whole range on this thread), which split a range only
+/// while it is longer than `grain`, and only as far as the workers need (oneTBB's automatic
+/// partitioner): parts hold about grain/2 items or more.
 template <class Part>
 void split(std::size_t first, std::size_t count, unsigned threads, std::size_t grain, const Part& part) {
   grain = std::max<std::size_t>(1, grain);
+  if (threads == 1) return part(first, count);  // on this thread: no task, no arena
 #if defined(DQKIT_HAVE_TBB)
   auto body = [&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(first, first + count, grain),
@@ -67,6 +68,22 @@ Status run_in_parts(const Job& job, std::size_t Job::*first, std::size_t Job::*c
   return {};
 }
 
+/// local_to_model_frames_parallel for float and double.
+template <class T>
+Status frames_in_parts(std::span<const int> parents, std::span<const DualQuaternion<T>> local, std::span<DualQuaternion<T>> model,
+                       unsigned threads, std::size_t grain) {
+  // Checked over the whole batch first, so that an error leaves all of model untouched.
+  if (Status s = check_frames<T>(parents, local, model); !s) return s;
+  if (local.empty()) return {};
+  constexpr std::size_t kUnit = 16;  // frames: for float, a whole number of vectors on every target
+  const std::size_t joints = parents.size(), frames = local.size() / joints;
+  split(0, (frames + kUnit - 1) / kUnit, threads, grain / kUnit, [&](std::size_t first, std::size_t count) {
+    const std::size_t begin = first * kUnit * joints, size = std::min(frames, (first + count) * kUnit) * joints - begin;
+    compute_frames(parents, local.subspan(begin, size), model.subspan(begin, size));
+  });
+  return {};
+}
+
 }  // namespace
 
 template <class T>
@@ -80,16 +97,11 @@ Status run_parallel(const BlockedForwardKinematicsJob<T>& job, unsigned threads,
 
 Status local_to_model_frames_parallel(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                                       std::span<DualQuaternion<float>> model, unsigned threads, std::size_t grain) {
-  // Checked over the whole batch first, so that an error leaves all of model untouched.
-  if (Status s = check_frames(parents, local, model); !s) return s;
-  if (local.empty()) return {};
-  constexpr std::size_t kUnit = 16;  // frames: a whole number of vectors on every target
-  const std::size_t joints = parents.size(), frames = local.size() / joints;
-  split(0, (frames + kUnit - 1) / kUnit, threads, grain / kUnit, [&](std::size_t first, std::size_t count) {
-    const std::size_t begin = first * kUnit * joints, size = std::min(frames, (first + count) * kUnit) * joints - begin;
-    compute_frames(parents, local.subspan(begin, size), model.subspan(begin, size));
-  });
-  return {};
+  return frames_in_parts<float>(parents, local, model, threads, grain);
+}
+Status local_to_model_frames_parallel(std::span<const int> parents, std::span<const DualQuaternion<double>> local,
+                                      std::span<DualQuaternion<double>> model, unsigned threads, std::size_t grain) {
+  return frames_in_parts<double>(parents, local, model, threads, grain);
 }
 
 template Status run_parallel(const ForwardKinematicsJob<float>&, unsigned, std::size_t);

@@ -181,8 +181,9 @@ void run(const BlockedForwardKinematicsJob<float>& job) {
   }
 }
 
-Status check_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
-                    std::span<const DualQuaternion<float>> model) {
+template <class T>
+Status check_frames(std::span<const int> parents, std::span<const DualQuaternion<T>> local,
+                    std::span<const DualQuaternion<T>> model) {
   const std::size_t joints = parents.size();
   if (Status order = detail::parents_in_order(parents); !order) return order;
   if (local.size() != model.size() || (joints == 0 ? !local.empty() : local.size() % joints != 0))
@@ -192,6 +193,8 @@ Status check_frames(std::span<const int> parents, std::span<const DualQuaternion
     return Error{"model must not overlap local"};
   return {};
 }
+template Status check_frames(std::span<const int>, std::span<const DualQuaternion<float>>, std::span<const DualQuaternion<float>>);
+template Status check_frames(std::span<const int>, std::span<const DualQuaternion<double>>, std::span<const DualQuaternion<double>>);
 
 void compute_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                     std::span<DualQuaternion<float>> model) {
@@ -221,9 +224,22 @@ void compute_frames(std::span<const int> parents, std::span<const DualQuaternion
     }
 }
 
+void compute_frames(std::span<const int> parents, std::span<const DualQuaternion<double>> local,
+                    std::span<DualQuaternion<double>> model) {
+  const std::size_t joints = parents.size();
+  for (std::size_t begin = 0; begin < local.size(); begin += joints)
+    local_to_model<DualQuaternion<double>>(parents, local.subspan(begin, joints), model.subspan(begin, joints));
+}
+
 Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                              std::span<DualQuaternion<float>> model) {
-  if (Status s = check_frames(parents, local, model); !s) return s;
+  if (Status s = check_frames<float>(parents, local, model); !s) return s;
+  compute_frames(parents, local, model);
+  return {};
+}
+Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<double>> local,
+                             std::span<DualQuaternion<double>> model) {
+  if (Status s = check_frames<double>(parents, local, model); !s) return s;
   compute_frames(parents, local, model);
   return {};
 }

@@ -76,6 +76,19 @@ def test_batch_forward_kinematics_on_cmu():
     for j, p in enumerate(skeleton.parents):
         depth[j] = 1 if p < 0 else depth[p] + 1
     np.testing.assert_allclose(model32, model[:37], atol=64 * max(depth) * np.finfo(np.float32).eps * scale)
+    # On threads (oneTBB's workers, ranges of 16 frames or more): the one-thread result bit for bit,
+    # in both dtypes, with ranges that leave a partial last one (37 and all the file's frames).
+    for frames in (local[:37], local):
+        for dtype in (np.float64, np.float32):
+            x = frames.astype(dtype)
+            one = dqkit.local_to_model(skeleton, x)
+            for threads in (2, 0):
+                many = dqkit.local_to_model(skeleton, x, threads=threads)
+                assert many.dtype == dtype
+                np.testing.assert_array_equal(many.view(np.uint8), one.view(np.uint8))
+    for bad in (-1, 2**32):
+        with pytest.raises(ValueError, match=rf"threads: expected 0 \(every hardware thread\) or a number of threads, got {bad}"):
+            dqkit.local_to_model(skeleton, local[:2], threads=bad)
     # Parents must be signed integers, checked before narrowing: never truncated or wrapped.
     for bad, message in (([-1, 0.7], "J signed integers"), (np.array([0, 1], np.uint8), "J signed integers"),
                          ([-1, 2**40], "joint 1 has parent 1099511627776")):

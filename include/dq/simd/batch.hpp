@@ -170,8 +170,9 @@ void run(const ForwardKinematicsJob<float>& job);
 /// `grain` poses or more (oneTBB splits a range only while it is longer than `grain`, as far as its
 /// workers need; without oneTBB, one range per thread), each written by one task (no
 /// synchronization needed).
-/// `threads` limits the workers used (0: every hardware thread). Float jobs use the vectorized
-/// product (run above). Returns the job's validation error instead of running an invalid job.
+/// `threads` limits the workers used (0: every hardware thread; 1: this thread, no task). Float
+/// jobs use the vectorized product (run above). Returns the job's validation error instead of
+/// running an invalid job.
 template <class T>
 Status run_parallel(const ForwardKinematicsJob<T>& job, unsigned threads = 0, std::size_t grain = 256);
 extern template Status run_parallel(const ForwardKinematicsJob<float>&, unsigned, std::size_t);

@@ -27,23 +27,30 @@ void run(const BlockedForwardKinematicsJob<float>& job);
 /// spans are not one whole number of frames of the same length.
 Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                              std::span<DualQuaternion<float>> model);
+/// The same for double, with the same checks and errors: each frame by dq::local_to_model (the
+/// scalar product, bit for bit; there is no vector kernel for double).
+Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<double>> local,
+                             std::span<DualQuaternion<double>> model);
 
 /// local_to_model_frames on oneTBB's persistent worker threads (in a build without oneTBB: one
 /// thread per part, started for the call): the frames split at multiples of 16 frames (whole
 /// vectors on every target, so only the last range has a scalar tail) into ranges of about `grain`
 /// frames or more (at least 16; oneTBB splits a range only while it is longer than `grain`, as far
 /// as its workers need; without oneTBB, one range per thread), each computed by one task.
-/// `threads` limits the workers used (0: every hardware thread). Bit for bit local_to_model_frames'
-/// result, with the same errors, returned before any work.
+/// `threads` limits the workers used (0: every hardware thread; 1: this thread, no task). Bit for
+/// bit local_to_model_frames' result, with the same errors, returned before any work. For float
+/// and double.
 Status local_to_model_frames_parallel(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                                       std::span<DualQuaternion<float>> model, unsigned threads = 0, std::size_t grain = 256);
+Status local_to_model_frames_parallel(std::span<const int> parents, std::span<const DualQuaternion<double>> local,
+                                      std::span<DualQuaternion<double>> model, unsigned threads = 0, std::size_t grain = 256);
 
 /// Runs a job on oneTBB's persistent worker threads (in a build without oneTBB: one thread per part,
 /// started for the call), split into block ranges of about `grain` blocks or more (16 poses each;
 /// oneTBB splits a range only while it is longer than `grain`, as far as its workers need; without
-/// oneTBB, one range per thread), each written by one task. `threads` limits the workers used (0: every
-/// hardware thread). Float jobs use the dispatched product. Returns the job's validation error
-/// instead of running an invalid job.
+/// oneTBB, one range per thread), each written by one task. `threads` limits the workers used (0:
+/// every hardware thread; 1: this thread, no task). Float jobs use the dispatched product. Returns
+/// the job's validation error instead of running an invalid job.
 template <class T>
 Status run_parallel(const BlockedForwardKinematicsJob<T>& job, unsigned threads = 0, std::size_t grain = 16);
 extern template Status run_parallel(const BlockedForwardKinematicsJob<float>&, unsigned, std::size_t);
