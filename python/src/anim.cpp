@@ -128,11 +128,15 @@ void bind_skeleton(py::module_& m) {
         py::arg("a"), py::arg("b"), py::arg("u"), py::arg("mode"),
         "Between two keys at fraction u, as the Interpolation says (screw: sclerp; dual_quaternion_linear: dlb; decoupled; matrix).");
 
-  m.def("local_to_model", [](py::handle parents_obj, ArrayLike local, long long threads) {
+  m.def("local_to_model", [](py::handle parents_obj, ArrayLike local, const py::int_& threads_obj) {
     const std::vector<int> parents = parents_of(parents_obj);
     const auto joints = std::to_string(parents.size());
-    if (threads < 0 || threads > std::numeric_limits<unsigned>::max())
-      throw py::value_error("threads: expected 0 (every hardware thread) or a number of threads, got " + std::to_string(threads));
+    if (PyBool_Check(threads_obj.ptr())) throw py::type_error("threads: expected an int, got bool");
+    int overflow = 0;
+    const long long threads = PyLong_AsLongLongAndOverflow(threads_obj.ptr(), &overflow);
+    if (overflow != 0 || threads < 0 || threads > std::numeric_limits<unsigned>::max())
+      throw py::value_error("threads: expected 0 (every hardware thread) or a number of threads, got " +
+                            std::string(py::str(py::handle(threads_obj))));
     return with_dtype(call_dtype(local, "local"), [&]<class T>() -> py::array {
       const BatchInput in = batch_input(local, {"F", "J", "8"}, dtype_of_v<T>, "local", true);
       const py::ssize_t j_axis = in.array.ndim() - 2;

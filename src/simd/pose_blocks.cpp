@@ -231,17 +231,22 @@ void compute_frames(std::span<const int> parents, std::span<const DualQuaternion
     local_to_model<DualQuaternion<double>>(parents, local.subspan(begin, joints), model.subspan(begin, joints));
 }
 
-Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
-                             std::span<DualQuaternion<float>> model) {
-  if (Status s = check_frames<float>(parents, local, model); !s) return s;
+namespace {
+template <class T>
+Status checked_frames(std::span<const int> parents, std::span<const DualQuaternion<T>> local, std::span<DualQuaternion<T>> model) {
+  if (Status s = check_frames<T>(parents, local, model); !s) return s;
   compute_frames(parents, local, model);
   return {};
 }
+}  // namespace
+
+Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
+                             std::span<DualQuaternion<float>> model) {
+  return checked_frames<float>(parents, local, model);
+}
 Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<double>> local,
                              std::span<DualQuaternion<double>> model) {
-  if (Status s = check_frames<double>(parents, local, model); !s) return s;
-  compute_frames(parents, local, model);
-  return {};
+  return checked_frames<double>(parents, local, model);
 }
 
 }  // namespace dq::simd

@@ -39,6 +39,17 @@ def test_skeleton_built_from_python():
         s.index("tail")  # never -1, which NumPy would take as the last joint
     model = dqkit.local_to_model(s, s.rest_pose)
     np.testing.assert_array_equal(dqkit.translation(model), [[0, 0, 0], [0, 1, 0], [0, 1.5, 0]])
+    # threads: one pose, no frames and 40 frames on every hardware thread; counts that are no
+    # thread count refused by name.
+    np.testing.assert_array_equal(dqkit.local_to_model(s, s.rest_pose, threads=0), model)
+    assert dqkit.local_to_model(s, np.zeros((0, 3, 8)), threads=0).shape == (0, 3, 8)
+    np.testing.assert_array_equal(dqkit.local_to_model(s, np.array([s.rest_pose] * 40), threads=2), [model] * 40)
+    for bad in (-1, 2**32, 2**64, -2**70):
+        with pytest.raises(ValueError, match=rf"threads: expected 0 \(every hardware thread\) or a number of threads, got {bad}"):
+            dqkit.local_to_model(s, s.rest_pose, threads=bad)
+    for bad in (True, 1.5, "2"):
+        with pytest.raises(TypeError):
+            dqkit.local_to_model(s, s.rest_pose, threads=bad)
     bad = dqkit.RawSkeleton()
     bad.add("a", 3)
     with pytest.raises(dqkit.ReadError):
@@ -63,7 +74,7 @@ def test_batch_forward_kinematics_on_cmu():
         np.testing.assert_array_equal(model[f], [np.asarray(w) for w in world])
     # One pose, float32, and parents given as a list.
     np.testing.assert_array_equal(dqkit.local_to_model(list(skeleton.parents), local[5]), model[5])
-    # float32 frames run on the vector lanes, in place (dq::simd::local_to_model_frames): each frame
+    # float32 frames run on the vector lanes, in place (dq::simd::local_to_model_frames_parallel): each frame
     # as computed alone (the same product on scalars), bit for bit, 37 frames (no multiple of any
     # width); and the float64 result to float32 rounding: 64 ε of the translations' scale for each
     # level of the hierarchy (the inputs' rounding and a product's few roundings per level).
@@ -76,9 +87,10 @@ def test_batch_forward_kinematics_on_cmu():
     for j, p in enumerate(skeleton.parents):
         depth[j] = 1 if p < 0 else depth[p] + 1
     np.testing.assert_allclose(model32, model[:37], atol=64 * max(depth) * np.finfo(np.float32).eps * scale)
-    # On threads (oneTBB's workers, ranges of 16 frames or more): the one-thread result bit for bit,
-    # in both dtypes, with ranges that leave a partial last one (37 and all the file's frames).
-    for frames in (local[:37], local):
+    # On threads (oneTBB's workers): the one-thread result bit for bit, in both dtypes, for batches
+    # that are split (more than 256 frames) into ranges cut at multiples of 16 frames, the last one
+    # partial (300 and 2749 frames).
+    for frames in (local[:300], local[:-3]):
         for dtype in (np.float64, np.float32):
             x = frames.astype(dtype)
             one = dqkit.local_to_model(skeleton, x)
@@ -86,9 +98,6 @@ def test_batch_forward_kinematics_on_cmu():
                 many = dqkit.local_to_model(skeleton, x, threads=threads)
                 assert many.dtype == dtype
                 np.testing.assert_array_equal(many.view(np.uint8), one.view(np.uint8))
-    for bad in (-1, 2**32):
-        with pytest.raises(ValueError, match=rf"threads: expected 0 \(every hardware thread\) or a number of threads, got {bad}"):
-            dqkit.local_to_model(skeleton, local[:2], threads=bad)
     # Parents must be signed integers, checked before narrowing: never truncated or wrapped.
     for bad, message in (([-1, 0.7], "J signed integers"), (np.array([0, 1], np.uint8), "J signed integers"),
                          ([-1, 2**40], "joint 1 has parent 1099511627776")):
