@@ -970,8 +970,8 @@ class SceneSkin:
     def vertex_count(self) -> int: ...
     @property
     def joint_count(self) -> int: ...
-    def skin(self: SceneSkin, joint_world: object, method: SkinningMethod = ...) -> SkinnedFrame:
-        """Skins every mesh with the (J, 8) joint world transforms."""
+    def skin(self: SceneSkin, joint_world: object, method: SkinningMethod = ..., threads: SkinningThreads = ...) -> SkinnedFrame:
+        """Skins every mesh with the (J, 8) joint world transforms, on `threads` (a SkinningThreads) if given."""
 
 
 class Screw:
@@ -1091,6 +1091,15 @@ Members:
     def value(self) -> int: ...
     def __init__(self, value: int) -> None: ...
     def __int__(self) -> int: ...
+
+
+class SkinningThreads:
+    """Threads for skinning, started once and kept for every call given this pool; one call at a time."""
+    def __init__(self: SkinningThreads, threads: int) -> None:
+        """threads: the total, the calling thread included (at most 1024); 0: every hardware thread."""
+    @property
+    def size(self) -> int: """Threads, the calling thread included."""
+    def __repr__(self: SkinningThreads) -> str: ...
 
 
 class TaskKind:
@@ -1311,8 +1320,8 @@ def sclerp(a: numpy.typing.ArrayLike, b: numpy.typing.ArrayLike, t: object, path
 def sin(x: Dual) -> Dual: ...
 @overload
 def sin(x: HyperDual) -> HyperDual: ...
-def skin_vertices(skin: Skin, bone_world: object, method: SkinningMethod = ...) -> numpy.ndarray:
-    """(V, 3) float32 skinned positions for (B, 8) bone world transforms."""
+def skin_vertices(skin: Skin, bone_world: object, method: SkinningMethod = ..., threads: SkinningThreads = ...) -> numpy.ndarray:
+    """(V, 3) float32 skinned positions for (B, 8) bone world transforms; on `threads` (a SkinningThreads) if given, with the same result bit for bit."""
 @overload
 def slerp(a: Quaternion, b: Quaternion, t: float, path: Path = ...) -> Quaternion:
     """Spherical linear interpolation (constant angular speed, never fails)."""

@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <limits>
 
 #include "batch.hpp"
 #include "dq/anim/animation.hpp"
@@ -131,12 +130,7 @@ void bind_skeleton(py::module_& m) {
   m.def("local_to_model", [](py::handle parents_obj, ArrayLike local, const py::int_& threads_obj) {
     const std::vector<int> parents = parents_of(parents_obj);
     const auto joints = std::to_string(parents.size());
-    if (PyBool_Check(threads_obj.ptr())) throw py::type_error("threads: expected an int, got bool");
-    int overflow = 0;
-    const long long threads = PyLong_AsLongLongAndOverflow(threads_obj.ptr(), &overflow);
-    if (overflow != 0 || threads < 0 || threads > std::numeric_limits<unsigned>::max())
-      throw py::value_error("threads: expected 0 (every hardware thread) or a number of threads, got " +
-                            std::string(py::str(py::handle(threads_obj))));
+    const unsigned threads = thread_count(threads_obj);
     return with_dtype(call_dtype(local, "local"), [&]<class T>() -> py::array {
       const BatchInput in = batch_input(local, {"F", "J", "8"}, dtype_of_v<T>, "local", true);
       const py::ssize_t j_axis = in.array.ndim() - 2;
@@ -152,8 +146,7 @@ void bind_skeleton(py::module_& m) {
       py::gil_scoped_release release;
       // float32 frames on the vector lanes, float64 frame by frame with dq::local_to_model (validated
       // above: parents_of, the shape); on oneTBB's workers unless threads == 1.
-      const dq::Status s = dq::simd::local_to_model_frames_parallel(parents, std::span(x, frames * n), std::span(o, frames * n),
-                                                                    static_cast<unsigned>(threads));
+      const dq::Status s = dq::simd::local_to_model_frames_parallel(parents, std::span(x, frames * n), std::span(o, frames * n), threads);
       if (!s) throw std::logic_error("local_to_model: " + s.error().message);
       return out;
     });

@@ -1,6 +1,7 @@
 #include "common.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace dqpy {
 
@@ -68,6 +69,16 @@ py::array_t<std::int64_t, py::array::c_style> as_integers(py::handle obj, int nd
     throw py::value_error(what + ", got a value beyond 2**63 - 1");  // the int64 cast would wrap it
   return py::reinterpret_steal<py::array_t<std::int64_t, py::array::c_style>>(
       py::module_::import("numpy").attr("ascontiguousarray")(any, py::dtype::of<std::int64_t>()).release());
+}
+
+unsigned thread_count(const py::int_& threads) {
+  if (PyBool_Check(threads.ptr())) throw py::type_error("threads: expected an int, got bool");
+  int overflow = 0;
+  const long long n = PyLong_AsLongLongAndOverflow(threads.ptr(), &overflow);
+  if (overflow != 0 || n < 0 || n > std::numeric_limits<unsigned>::max())
+    throw py::value_error("threads: expected 0 (every hardware thread) or a number of threads, got " +
+                          std::string(py::str(py::handle(threads))));
+  return static_cast<unsigned>(n);
 }
 
 void require_existing(const std::filesystem::path& path) {

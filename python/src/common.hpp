@@ -56,6 +56,10 @@ T writable(dq::Expected<T>&& e) {
   return std::move(*e);
 }
 
+/// A `threads` argument: 0 (every hardware thread) or a number of threads below 2³², else
+/// ValueError naming it (a bool: TypeError).
+unsigned thread_count(const py::int_& threads);
+
 /// The text of operator<< (the C++ printing, w, x, y, z order).
 template <class X>
 std::string str_of(const X& x) {

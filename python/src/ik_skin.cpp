@@ -1,6 +1,9 @@
 // Inverse kinematics (dq::IkSolver over KinematicModel and IkTask) and skinning (Skin, SceneSkin,
 // batch skinning of (V, 3) vertices).
 #include <cstdio>
+#include <memory>
+#include <mutex>
+#include <thread>
 
 #include "common.hpp"
 #include "dq/ik/kinematic_model.hpp"
@@ -23,6 +26,17 @@ std::span<double> inout_vector(py::array& a, std::size_t n, const char* name) {
     throw py::value_error(std::string(name) + ": expected a writable contiguous float64 array of shape (" + std::to_string(n) + ",)");
   return {static_cast<double*>(a.mutable_data()), n};
 }
+
+/// The most threads a Python SkinningThreads starts: each is a system thread, started at once.
+constexpr unsigned kMaxPoolThreads = 1024;
+
+/// dq::SkinningThreads for Python: its threads started once; `busy` held while a job runs on it
+/// (SkinningThreads::run is not reentrant, and Python threads may share a pool).
+struct SkinningPool {
+  explicit SkinningPool(unsigned threads) : pool(threads) {}
+  dq::SkinningThreads pool;
+  std::mutex busy;
+};
 
 void bind_ik_types(py::module_& m) {
   Enum<dq::DofType>(m, "DofType")
@@ -223,7 +237,18 @@ void bind_skin_types(py::module_& m) {
      py::arg("options") = dq::SkinOptions{},
      "A skin from (V, 3) positions, (V, K) bone indices and weights (zero weights ignored), (B, 4, 4) inverse bind matrices "
      "and optional (T, 3) triangles (needed for SkinningMethod.cor).");
-  m.def("skin_vertices", [](const dq::Skin& skin, py::handle bone_world, dq::SkinningMethod method) {
+  py::class_<SkinningPool>(m, "SkinningThreads",
+                           "Threads for skinning, started once and kept for every call given this pool; one call at a time.")
+      .def(py::init([](const py::int_& threads) {
+             const unsigned n = thread_count(threads);
+             if (n > kMaxPoolThreads)
+               throw py::value_error("threads: at most " + std::to_string(kMaxPoolThreads) + " for a SkinningThreads, got " + std::to_string(n));
+             return std::make_unique<SkinningPool>(n == 0 ? std::max(1u, std::thread::hardware_concurrency()) : n);
+           }),
+           py::arg("threads"), "threads: the total, the calling thread included (at most 1024); 0: every hardware thread.")
+      .def_property_readonly("size", [](const SkinningPool& p) { return p.pool.size(); }, "Threads, the calling thread included.")
+      .def("__repr__", [](const SkinningPool& p) { return "SkinningThreads(" + std::to_string(p.pool.size()) + ")"; });
+  m.def("skin_vertices", [](const dq::Skin& skin, py::handle bone_world, dq::SkinningMethod method, SkinningPool* threads) {
     const auto bw = dual_quaternions_from_numpy(bone_world, "bone_world");
     if (bw.size() != skin.bone_count())
       throw py::value_error("bone_world: expected shape (" + std::to_string(skin.bone_count()) + ", 8), one per bone");
@@ -242,13 +267,19 @@ void bind_skin_types(py::module_& m) {
       dq::update_palette(skin, bw, palette);
       dq::SkinningJob job{&skin, &palette, method, {px, py_, pz, {}, {}, {}, {}, {}, {}}, 0, n};
       check(job.validate());
-      job.run();
+      if (threads) {
+        std::lock_guard lock(threads->busy);
+        check(threads->pool.run(job));
+      } else {
+        job.run();
+      }
     }
     auto o = out.mutable_unchecked<2>();
     for (std::size_t v = 0; v < n; ++v) o(v, 0) = px[v], o(v, 1) = py_[v], o(v, 2) = pz[v];
     return out;
-  }, py::arg("skin"), py::arg("bone_world"), py::arg("method") = dq::SkinningMethod::dqs,
-     "(V, 3) float32 skinned positions for (B, 8) bone world transforms.");
+  }, py::arg("skin"), py::arg("bone_world"), py::arg("method") = dq::SkinningMethod::dqs, py::arg("threads") = py::none(),
+     "(V, 3) float32 skinned positions for (B, 8) bone world transforms; on `threads` (a SkinningThreads) if given, "
+     "with the same result bit for bit.");
 
   py::class_<dq::SkinnedFrame>(m, "SkinnedFrame")
       .def_property_readonly("positions", [](const dq::SkinnedFrame& f) {
@@ -270,16 +301,24 @@ void bind_skin_types(py::module_& m) {
                   py::arg("scene"), py::arg("options") = dq::SkinOptions{})
       .def_property_readonly("vertex_count", &dq::SceneSkin::vertex_count)
       .def_property_readonly("joint_count", &dq::SceneSkin::joint_count)
-      .def("skin", [](dq::SceneSkin& s, py::handle joint_world, dq::SkinningMethod method) {
+      .def("skin", [](dq::SceneSkin& s, py::handle joint_world, dq::SkinningMethod method, SkinningPool* threads) {
         const auto jw = dual_quaternions_from_numpy(joint_world, "joint_world");
         if (jw.size() != s.joint_count())
           throw py::value_error("joint_world: expected shape (" + std::to_string(s.joint_count()) + ", 8), one per joint");
         dq::SkinnedFrame frame = s.make_frame();
-        // The GIL stays held: skin() updates the scene skin's palettes, shared by every caller.
-        dq::SkinningThreads threads(1);
-        check(s.skin(jw, method, threads, frame));
+        // The GIL stays held: skin() updates the scene skin's palettes, shared by every caller. A
+        // caller of skin_vertices on the same pool holds `busy` without the GIL, so waiting here
+        // cannot deadlock.
+        if (threads) {
+          std::lock_guard lock(threads->busy);
+          check(s.skin(jw, method, threads->pool, frame));
+        } else {
+          dq::SkinningThreads one(1);
+          check(s.skin(jw, method, one, frame));
+        }
         return frame;
-      }, py::arg("joint_world"), py::arg("method") = dq::SkinningMethod::dqs, "Skins every mesh with the (J, 8) joint world transforms.");
+      }, py::arg("joint_world"), py::arg("method") = dq::SkinningMethod::dqs, py::arg("threads") = py::none(),
+      "Skins every mesh with the (J, 8) joint world transforms, on `threads` (a SkinningThreads) if given.");
   m.def("pose_at", [](const dq::ImportedScene& s, std::size_t animation, double time) {
     std::vector<DQd> world;
     check(dq::pose_at(s, animation, time, world));

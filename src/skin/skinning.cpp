@@ -372,10 +372,17 @@ void SkinningJob::run() const {
 }
 
 SkinningThreads::SkinningThreads(unsigned threads) {
-  for (unsigned i = 1; i < std::max(1u, threads); ++i) workers_.emplace_back([this, i] { work(i); });
+  try {
+    for (unsigned i = 1; i < std::max(1u, threads); ++i) workers_.emplace_back([this, i] { work(i); });
+  } catch (...) {  // a thread that could not start (std::system_error): stop those that did, or their destruction would terminate
+    stop();
+    throw;
+  }
 }
 
-SkinningThreads::~SkinningThreads() {
+SkinningThreads::~SkinningThreads() { stop(); }
+
+void SkinningThreads::stop() {
   {
     std::lock_guard lock(mutex_);
     stop_ = true;

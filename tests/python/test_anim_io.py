@@ -2,6 +2,7 @@
 import errno
 import os
 import subprocess
+import threading
 import sys
 
 import numpy as np
@@ -183,6 +184,18 @@ def test_import_runs_the_packaged_worker_without_forking():
         dqkit.load_motion("/nonexistent/nothing.bvh")
 
 
+def test_scene_skin_on_threads():
+    # SceneSkin.skin on a pool: every mesh the one-thread result bit for bit.
+    scene = dqkit.import_scene(str(need(SIMPLE_SKIN))) if dqkit.HAVE_IMPORT else pytest.skip("built without Assimp")
+    skin = dqkit.SceneSkin.build(scene)
+    pool = dqkit.SkinningThreads(2)
+    for time in (0.0, 0.4, 1.0):
+        world = dqkit.pose_at(scene, 0, time)
+        for method in (dqkit.SkinningMethod.lbs, dqkit.SkinningMethod.dqs):
+            one, two = skin.skin(world, method), skin.skin(world, method, threads=pool)
+            np.testing.assert_array_equal(two.positions.view(np.uint32), one.positions.view(np.uint32))
+
+
 def test_import_motion_keeps_lights_and_cameras_when_asked():
     if not dqkit.HAVE_IMPORT:
         pytest.skip("built without Assimp")
@@ -263,6 +276,51 @@ def test_skin_vertices_against_numpy(rng):
     for bad in (2 * world, np.zeros_like(world), np.full_like(world, np.nan)):
         with pytest.raises(ValueError, match="bone_world: bone 0 is not a unit dual quaternion"):
             dqkit.skin_vertices(skin, bad, dqkit.SkinningMethod.lbs)
+
+
+def test_skinning_threads_give_the_one_thread_result(rng):
+    # A SkinningThreads pool splits the vertices at multiples of 16 (200 vertices on 2 threads: 112
+    # and 88; on 3: 80, 80 and 40): every method bit for bit the one-thread result. Python threads
+    # sharing one pool take turns on it, each with its own result.
+    V, B, K = 200, 5, 3
+    positions = rng.uniform(-1, 1, size=(V, 3))
+    bones = np.stack([rng.choice(B, K, replace=False) for _ in range(V)])
+    weights = rng.uniform(0.1, 1, size=(V, K))
+    inverse_bind = np.stack([np.eye(4)] * B)
+    inverse_bind[:, :3, 3] = rng.uniform(-1, 1, size=(B, 3))
+    skin = dqkit.build_skin(positions, bones, weights, inverse_bind, triangles=np.arange(198).reshape(66, 3))
+    worlds = [random_rigid(rng, B, scale=1.0)[0] for _ in range(6)]
+    methods = [dqkit.SkinningMethod.lbs, dqkit.SkinningMethod.dqs, dqkit.SkinningMethod.cor]
+    one = [dqkit.skin_vertices(skin, w, m) for w in worlds for m in methods]
+    for n in (2, 3, 0):
+        pool = dqkit.SkinningThreads(n)
+        assert (pool.size == n if n else pool.size >= 1) and repr(pool) == f"SkinningThreads({pool.size})"
+        got = [dqkit.skin_vertices(skin, w, m, threads=pool) for w in worlds for m in methods]
+        for a, b in zip(got, one):
+            np.testing.assert_array_equal(a.view(np.uint32), b.view(np.uint32))
+    pool = dqkit.SkinningThreads(2)
+    results = [None] * len(one)
+
+    def work(i):
+        for _ in range(20):
+            results[i] = dqkit.skin_vertices(skin, worlds[i // 3], methods[i % 3], threads=pool)
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(len(one))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(results, one):
+        np.testing.assert_array_equal(a.view(np.uint32), b.view(np.uint32))
+    for bad in (-1, 2**32):
+        with pytest.raises(ValueError, match=rf"threads: expected 0 \(every hardware thread\) or a number of threads, got {bad}"):
+            dqkit.SkinningThreads(bad)
+    with pytest.raises(ValueError, match="threads: at most 1024 for a SkinningThreads, got 1025"):
+        dqkit.SkinningThreads(1025)  # each a system thread, started at once
+    with pytest.raises(TypeError):
+        dqkit.SkinningThreads(True)
+    with pytest.raises(TypeError):
+        dqkit.skin_vertices(skin, worlds[0], threads=2)  # a pool, not a count
 
 
 def test_installed_module_imports_from_the_prefix(tmp_path):

@@ -76,7 +76,9 @@ struct SkinningJob {
 /// per thread (the calling thread takes the first), and returns when all are done.
 class SkinningThreads {
  public:
-  explicit SkinningThreads(unsigned threads);  ///< total threads including the caller (≥ 1)
+  /// `threads`: the total, the caller included (0 counts as 1). Throws std::system_error, with no
+  /// thread left running, when the system cannot start one.
+  explicit SkinningThreads(unsigned threads);
   ~SkinningThreads();
   SkinningThreads(const SkinningThreads&) = delete;
   SkinningThreads& operator=(const SkinningThreads&) = delete;
@@ -86,6 +88,7 @@ class SkinningThreads {
 
  private:
   void work(unsigned index);
+  void stop();  ///< ends and joins the workers
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable start_, done_;
