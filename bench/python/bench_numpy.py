@@ -201,7 +201,7 @@ q = dqkit.compose(bone_world, dqkit.from_matrix(inverse_bind))
 assert np.allclose(numpy_dqs(positions, bones, weights, q), dqkit.skin_vertices(skin, bone_world), atol=1e-4)
 line(f"DQS skinning, {N} vertices x 4 influences", "vertices", [
     ("dqkit.skin_vertices", N / best(lambda: dqkit.skin_vertices(skin, bone_world))),
-    ("dqkit.skin_vertices, 2 threads", N / best(lambda: dqkit.skin_vertices(skin, bone_world, threads=pool))),
+    ("dqkit.skin_vertices, 2 threads", N / best(lambda: dqkit.skin_vertices(skin, bone_world, pool=pool))),
     ("NumPy (vectorized blend)", N / best(lambda: numpy_dqs(positions, bones, weights, q))),
 ])
 

@@ -970,8 +970,8 @@ class SceneSkin:
     def vertex_count(self) -> int: ...
     @property
     def joint_count(self) -> int: ...
-    def skin(self: SceneSkin, joint_world: object, method: SkinningMethod = ..., threads: SkinningThreads = ...) -> SkinnedFrame:
-        """Skins every mesh with the (J, 8) joint world transforms, on `threads` (a SkinningThreads) if given."""
+    def skin(self: SceneSkin, joint_world: object, method: SkinningMethod = ..., pool: Optional[SkinningThreads] = ...) -> SkinnedFrame:
+        """Skins every mesh with the (J, 8) joint world transforms, on `pool` (a SkinningThreads) if given."""
 
 
 class Screw:
@@ -1320,8 +1320,8 @@ def sclerp(a: numpy.typing.ArrayLike, b: numpy.typing.ArrayLike, t: object, path
 def sin(x: Dual) -> Dual: ...
 @overload
 def sin(x: HyperDual) -> HyperDual: ...
-def skin_vertices(skin: Skin, bone_world: object, method: SkinningMethod = ..., threads: SkinningThreads = ...) -> numpy.ndarray:
-    """(V, 3) float32 skinned positions for (B, 8) bone world transforms; on `threads` (a SkinningThreads) if given, with the same result bit for bit."""
+def skin_vertices(skin: Skin, bone_world: object, method: SkinningMethod = ..., pool: Optional[SkinningThreads] = ...) -> numpy.ndarray:
+    """(V, 3) float32 skinned positions for (B, 8) bone world transforms; on `pool` (a SkinningThreads) if given, with the same result bit for bit."""
 @overload
 def slerp(a: Quaternion, b: Quaternion, t: float, path: Path = ...) -> Quaternion:
     """Spherical linear interpolation (constant angular speed, never fails)."""

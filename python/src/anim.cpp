@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "batch.hpp"
 #include "dq/anim/animation.hpp"
@@ -130,7 +131,7 @@ void bind_skeleton(py::module_& m) {
   m.def("local_to_model", [](py::handle parents_obj, ArrayLike local, const py::int_& threads_obj) {
     const std::vector<int> parents = parents_of(parents_obj);
     const auto joints = std::to_string(parents.size());
-    const unsigned threads = thread_count(threads_obj);
+    const unsigned threads = thread_count(threads_obj, std::numeric_limits<unsigned>::max());
     return with_dtype(call_dtype(local, "local"), [&]<class T>() -> py::array {
       const BatchInput in = batch_input(local, {"F", "J", "8"}, dtype_of_v<T>, "local", true);
       const py::ssize_t j_axis = in.array.ndim() - 2;

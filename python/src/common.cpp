@@ -71,13 +71,13 @@ py::array_t<std::int64_t, py::array::c_style> as_integers(py::handle obj, int nd
       py::module_::import("numpy").attr("ascontiguousarray")(any, py::dtype::of<std::int64_t>()).release());
 }
 
-unsigned thread_count(const py::int_& threads) {
+unsigned thread_count(const py::int_& threads, unsigned most) {
   if (PyBool_Check(threads.ptr())) throw py::type_error("threads: expected an int, got bool");
   int overflow = 0;
   const long long n = PyLong_AsLongLongAndOverflow(threads.ptr(), &overflow);
-  if (overflow != 0 || n < 0 || n > std::numeric_limits<unsigned>::max())
-    throw py::value_error("threads: expected 0 (every hardware thread) or a number of threads, got " +
-                          std::string(py::str(py::handle(threads))));
+  if (overflow != 0 || n < 0 || n > most)
+    throw py::value_error("threads: expected 0 (every hardware thread) or a number of threads up to " + std::to_string(most) +
+                          ", got " + std::string(py::str(py::handle(threads))));
   return static_cast<unsigned>(n);
 }
 

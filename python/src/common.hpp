@@ -56,9 +56,9 @@ T writable(dq::Expected<T>&& e) {
   return std::move(*e);
 }
 
-/// A `threads` argument: 0 (every hardware thread) or a number of threads below 2³², else
+/// A `threads` argument: 0 (every hardware thread) or a number of threads up to `most`, else
 /// ValueError naming it (a bool: TypeError).
-unsigned thread_count(const py::int_& threads);
+unsigned thread_count(const py::int_& threads, unsigned most);
 
 /// The text of operator<< (the C++ printing, w, x, y, z order).
 template <class X>

@@ -1,8 +1,13 @@
 // Inverse kinematics (dq::IkSolver over KinematicModel and IkTask) and skinning (Skin, SceneSkin,
 // batch skinning of (V, 3) vertices).
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <system_error>
 #include <thread>
 
 #include "common.hpp"
@@ -31,11 +36,32 @@ std::span<double> inout_vector(py::array& a, std::size_t n, const char* name) {
 constexpr unsigned kMaxPoolThreads = 1024;
 
 /// dq::SkinningThreads for Python: its threads started once; `busy` held while a job runs on it
-/// (SkinningThreads::run is not reentrant, and Python threads may share a pool).
-struct SkinningPool {
-  explicit SkinningPool(unsigned threads) : pool(threads) {}
-  dq::SkinningThreads pool;
-  std::mutex busy;
+/// (SkinningThreads::run is not reentrant, and Python threads may share a pool). A process forked
+/// from the one that made it (multiprocessing's default on Linux) has none of its threads: there
+/// the pool refuses to run, and is left undestroyed (joining threads that are not there would hang).
+class SkinningPool {
+ public:
+  explicit SkinningPool(unsigned threads) : pool_(std::make_unique<dq::SkinningThreads>(threads)) {}
+  ~SkinningPool() {
+    if (getpid() != owner_) (void)pool_.release();
+  }
+  SkinningPool(const SkinningPool&) = delete;
+  SkinningPool& operator=(const SkinningPool&) = delete;
+  unsigned size() const noexcept { return pool_->size(); }
+  /// f(pool) while no other call runs on the pool. The caller has released the GIL, or holds it
+  /// (SceneSkin.skin): a caller that holds `busy` never waits for the GIL, so neither can deadlock.
+  template <class F>
+  dq::Status run(F f) {
+    if (getpid() != owner_)
+      throw std::runtime_error("SkinningThreads: made in another process (before a fork), which has its threads; make a new one here");
+    std::lock_guard lock(busy_);
+    return f(*pool_);
+  }
+
+ private:
+  std::unique_ptr<dq::SkinningThreads> pool_;
+  std::mutex busy_;
+  pid_t owner_ = getpid();
 };
 
 void bind_ik_types(py::module_& m) {
@@ -240,15 +266,18 @@ void bind_skin_types(py::module_& m) {
   py::class_<SkinningPool>(m, "SkinningThreads",
                            "Threads for skinning, started once and kept for every call given this pool; one call at a time.")
       .def(py::init([](const py::int_& threads) {
-             const unsigned n = thread_count(threads);
-             if (n > kMaxPoolThreads)
-               throw py::value_error("threads: at most " + std::to_string(kMaxPoolThreads) + " for a SkinningThreads, got " + std::to_string(n));
-             return std::make_unique<SkinningPool>(n == 0 ? std::max(1u, std::thread::hardware_concurrency()) : n);
+             const unsigned n = thread_count(threads, kMaxPoolThreads);
+             const unsigned total = n == 0 ? std::clamp(std::thread::hardware_concurrency(), 1u, kMaxPoolThreads) : n;
+             try {
+               return std::make_unique<SkinningPool>(total);
+             } catch (const std::system_error& e) {
+               throw std::runtime_error("SkinningThreads(" + std::to_string(total) + "): could not start a thread: " + e.what());
+             }
            }),
            py::arg("threads"), "threads: the total, the calling thread included (at most 1024); 0: every hardware thread.")
-      .def_property_readonly("size", [](const SkinningPool& p) { return p.pool.size(); }, "Threads, the calling thread included.")
-      .def("__repr__", [](const SkinningPool& p) { return "SkinningThreads(" + std::to_string(p.pool.size()) + ")"; });
-  m.def("skin_vertices", [](const dq::Skin& skin, py::handle bone_world, dq::SkinningMethod method, SkinningPool* threads) {
+      .def_property_readonly("size", &SkinningPool::size, "Threads, the calling thread included.")
+      .def("__repr__", [](const SkinningPool& p) { return "SkinningThreads(" + std::to_string(p.size()) + ")"; });
+  m.def("skin_vertices", [](const dq::Skin& skin, py::handle bone_world, dq::SkinningMethod method, std::optional<SkinningPool*> pool) {
     const auto bw = dual_quaternions_from_numpy(bone_world, "bone_world");
     if (bw.size() != skin.bone_count())
       throw py::value_error("bone_world: expected shape (" + std::to_string(skin.bone_count()) + ", 8), one per bone");
@@ -266,19 +295,18 @@ void bind_skin_types(py::module_& m) {
       dq::SkinPalette palette(skin.bone_count());
       dq::update_palette(skin, bw, palette);
       dq::SkinningJob job{&skin, &palette, method, {px, py_, pz, {}, {}, {}, {}, {}, {}}, 0, n};
-      check(job.validate());
-      if (threads) {
-        std::lock_guard lock(threads->busy);
-        check(threads->pool.run(job));
+      if (pool) {
+        check((*pool)->run([&](dq::SkinningThreads& threads) { return threads.run(job); }));  // validates first
       } else {
+        check(job.validate());
         job.run();
       }
     }
     auto o = out.mutable_unchecked<2>();
     for (std::size_t v = 0; v < n; ++v) o(v, 0) = px[v], o(v, 1) = py_[v], o(v, 2) = pz[v];
     return out;
-  }, py::arg("skin"), py::arg("bone_world"), py::arg("method") = dq::SkinningMethod::dqs, py::arg("threads") = py::none(),
-     "(V, 3) float32 skinned positions for (B, 8) bone world transforms; on `threads` (a SkinningThreads) if given, "
+  }, py::arg("skin"), py::arg("bone_world"), py::arg("method") = dq::SkinningMethod::dqs, py::arg("pool") = py::none(),
+     "(V, 3) float32 skinned positions for (B, 8) bone world transforms; on `pool` (a SkinningThreads) if given, "
      "with the same result bit for bit.");
 
   py::class_<dq::SkinnedFrame>(m, "SkinnedFrame")
@@ -301,24 +329,21 @@ void bind_skin_types(py::module_& m) {
                   py::arg("scene"), py::arg("options") = dq::SkinOptions{})
       .def_property_readonly("vertex_count", &dq::SceneSkin::vertex_count)
       .def_property_readonly("joint_count", &dq::SceneSkin::joint_count)
-      .def("skin", [](dq::SceneSkin& s, py::handle joint_world, dq::SkinningMethod method, SkinningPool* threads) {
+      .def("skin", [](dq::SceneSkin& s, py::handle joint_world, dq::SkinningMethod method, std::optional<SkinningPool*> pool) {
         const auto jw = dual_quaternions_from_numpy(joint_world, "joint_world");
         if (jw.size() != s.joint_count())
           throw py::value_error("joint_world: expected shape (" + std::to_string(s.joint_count()) + ", 8), one per joint");
         dq::SkinnedFrame frame = s.make_frame();
-        // The GIL stays held: skin() updates the scene skin's palettes, shared by every caller. A
-        // caller of skin_vertices on the same pool holds `busy` without the GIL, so waiting here
-        // cannot deadlock.
-        if (threads) {
-          std::lock_guard lock(threads->busy);
-          check(s.skin(jw, method, threads->pool, frame));
+        // The GIL stays held: skin() updates the scene skin's palettes, shared by every caller.
+        if (pool) {
+          check((*pool)->run([&](dq::SkinningThreads& threads) { return s.skin(jw, method, threads, frame); }));
         } else {
           dq::SkinningThreads one(1);
           check(s.skin(jw, method, one, frame));
         }
         return frame;
-      }, py::arg("joint_world"), py::arg("method") = dq::SkinningMethod::dqs, py::arg("threads") = py::none(),
-      "Skins every mesh with the (J, 8) joint world transforms, on `threads` (a SkinningThreads) if given.");
+      }, py::arg("joint_world"), py::arg("method") = dq::SkinningMethod::dqs, py::arg("pool") = py::none(),
+      "Skins every mesh with the (J, 8) joint world transforms, on `pool` (a SkinningThreads) if given.");
   m.def("pose_at", [](const dq::ImportedScene& s, std::size_t animation, double time) {
     std::vector<DQd> world;
     check(dq::pose_at(s, animation, time, world));

@@ -46,7 +46,7 @@ def test_skeleton_built_from_python():
     assert dqkit.local_to_model(s, np.zeros((0, 3, 8)), threads=0).shape == (0, 3, 8)
     np.testing.assert_array_equal(dqkit.local_to_model(s, np.array([s.rest_pose] * 40), threads=2), [model] * 40)
     for bad in (-1, 2**32, 2**64, -2**70):
-        with pytest.raises(ValueError, match=rf"threads: expected 0 \(every hardware thread\) or a number of threads, got {bad}"):
+        with pytest.raises(ValueError, match=rf"threads: expected 0 \(every hardware thread\) or a number of threads up to 4294967295, got {bad}"):
             dqkit.local_to_model(s, s.rest_pose, threads=bad)
     for bad in (True, 1.5, "2"):
         with pytest.raises(TypeError):
@@ -184,15 +184,19 @@ def test_import_runs_the_packaged_worker_without_forking():
         dqkit.load_motion("/nonexistent/nothing.bvh")
 
 
-def test_scene_skin_on_threads():
-    # SceneSkin.skin on a pool: every mesh the one-thread result bit for bit.
-    scene = dqkit.import_scene(str(need(SIMPLE_SKIN))) if dqkit.HAVE_IMPORT else pytest.skip("built without Assimp")
+def test_scene_skin_on_a_pool():
+    # SceneSkin.skin on a pool of two: three meshes of 648 to 1196 vertices, each split in two
+    # parts; every mesh the one-thread result bit for bit.
+    if not dqkit.HAVE_IMPORT:
+        pytest.skip("built without Assimp")
+    scene = dqkit.import_scene(str(need(MODELS / "X" / "BCN_Epileptic.X")))
+    assert len(scene.meshes) == 3 and min(len(m.positions) for m in scene.meshes) > 32
     skin = dqkit.SceneSkin.build(scene)
     pool = dqkit.SkinningThreads(2)
     for time in (0.0, 0.4, 1.0):
         world = dqkit.pose_at(scene, 0, time)
         for method in (dqkit.SkinningMethod.lbs, dqkit.SkinningMethod.dqs):
-            one, two = skin.skin(world, method), skin.skin(world, method, threads=pool)
+            one, two = skin.skin(world, method), skin.skin(world, method, pool=pool)
             np.testing.assert_array_equal(two.positions.view(np.uint32), one.positions.view(np.uint32))
 
 
@@ -278,24 +282,29 @@ def test_skin_vertices_against_numpy(rng):
             dqkit.skin_vertices(skin, bad, dqkit.SkinningMethod.lbs)
 
 
-def test_skinning_threads_give_the_one_thread_result(rng):
-    # A SkinningThreads pool splits the vertices at multiples of 16 (200 vertices on 2 threads: 112
-    # and 88; on 3: 80, 80 and 40): every method bit for bit the one-thread result. Python threads
-    # sharing one pool take turns on it, each with its own result.
-    V, B, K = 200, 5, 3
+def small_skin(rng, V=200, B=5, K=3):
+    """A skin of V vertices with K influences among B bones, and triangles for CoR."""
     positions = rng.uniform(-1, 1, size=(V, 3))
     bones = np.stack([rng.choice(B, K, replace=False) for _ in range(V)])
     weights = rng.uniform(0.1, 1, size=(V, K))
     inverse_bind = np.stack([np.eye(4)] * B)
     inverse_bind[:, :3, 3] = rng.uniform(-1, 1, size=(B, 3))
-    skin = dqkit.build_skin(positions, bones, weights, inverse_bind, triangles=np.arange(198).reshape(66, 3))
-    worlds = [random_rigid(rng, B, scale=1.0)[0] for _ in range(6)]
+    return dqkit.build_skin(positions, bones, weights, inverse_bind, triangles=np.arange(V - V % 3).reshape(-1, 3))
+
+
+def test_skinning_pools_give_the_one_thread_result(rng):
+    # A SkinningThreads pool splits the vertices at multiples of 16 (200 vertices on 2 threads: 112
+    # and 88; on 3: 80, 80 and 40): every method bit for bit the one-thread result. Python threads
+    # sharing one pool take turns on it, each with its own result (joined with a timeout: a broken
+    # pool fails the test instead of hanging it).
+    skin = small_skin(rng)
+    worlds = [random_rigid(rng, 5, scale=1.0)[0] for _ in range(6)]
     methods = [dqkit.SkinningMethod.lbs, dqkit.SkinningMethod.dqs, dqkit.SkinningMethod.cor]
     one = [dqkit.skin_vertices(skin, w, m) for w in worlds for m in methods]
     for n in (2, 3, 0):
         pool = dqkit.SkinningThreads(n)
-        assert (pool.size == n if n else pool.size >= 1) and repr(pool) == f"SkinningThreads({pool.size})"
-        got = [dqkit.skin_vertices(skin, w, m, threads=pool) for w in worlds for m in methods]
+        assert pool.size == (n or min(os.cpu_count(), 1024)) and repr(pool) == f"SkinningThreads({pool.size})"
+        got = [dqkit.skin_vertices(skin, w, m, pool=pool) for w in worlds for m in methods]
         for a, b in zip(got, one):
             np.testing.assert_array_equal(a.view(np.uint32), b.view(np.uint32))
     pool = dqkit.SkinningThreads(2)
@@ -303,24 +312,69 @@ def test_skinning_threads_give_the_one_thread_result(rng):
 
     def work(i):
         for _ in range(20):
-            results[i] = dqkit.skin_vertices(skin, worlds[i // 3], methods[i % 3], threads=pool)
+            results[i] = dqkit.skin_vertices(skin, worlds[i // 3], methods[i % 3], pool=pool)
 
-    threads = [threading.Thread(target=work, args=(i,)) for i in range(len(one))]
+    threads = [threading.Thread(target=work, args=(i,), daemon=True) for i in range(len(one))]
     for t in threads:
         t.start()
     for t in threads:
-        t.join()
+        t.join(timeout=60)
+        assert not t.is_alive(), "a call on the shared pool did not return"
     for a, b in zip(results, one):
         np.testing.assert_array_equal(a.view(np.uint32), b.view(np.uint32))
-    for bad in (-1, 2**32):
-        with pytest.raises(ValueError, match=rf"threads: expected 0 \(every hardware thread\) or a number of threads, got {bad}"):
-            dqkit.SkinningThreads(bad)
-    with pytest.raises(ValueError, match="threads: at most 1024 for a SkinningThreads, got 1025"):
-        dqkit.SkinningThreads(1025)  # each a system thread, started at once
+    for bad in (-1, 1025, 2**64):
+        with pytest.raises(ValueError, match=rf"threads: expected 0 \(every hardware thread\) or a number of threads up to 1024, got {bad}"):
+            dqkit.SkinningThreads(bad)  # each a system thread, started at once
     with pytest.raises(TypeError):
         dqkit.SkinningThreads(True)
     with pytest.raises(TypeError):
-        dqkit.skin_vertices(skin, worlds[0], threads=2)  # a pool, not a count
+        dqkit.skin_vertices(skin, worlds[0], pool=2)  # a pool, not a count
+    np.testing.assert_array_equal(dqkit.skin_vertices(skin, worlds[0], dqkit.SkinningMethod.lbs, pool=None), one[0])
+
+
+POOL_SCRIPT = """
+import os, resource, sys
+import numpy as np
+import dqkit
+sys.path.insert(0, sys.argv[1])
+from test_anim_io import small_skin
+skin = small_skin(np.random.default_rng(1))
+world = np.tile([1.0, 0, 0, 0, 0, 0, 0, 0], (5, 1))
+pool = dqkit.SkinningThreads(2)
+one = dqkit.skin_vertices(skin, world, pool=pool)
+if sys.argv[2] == "fork":
+    pid = os.fork()
+    if pid == 0:  # the pool's threads are not in this process: refused, and left at exit
+        try:
+            dqkit.skin_vertices(skin, world, pool=pool)
+        except RuntimeError as e:
+            print("child:", e, flush=True)
+            sys.exit(0)
+        sys.exit(1)
+    assert os.waitpid(pid, 0)[1] == 0
+    assert np.array_equal(dqkit.skin_vertices(skin, world, pool=pool), one)  # the parent's pool still works
+else:  # threads that cannot start: an error that says so, and no thread left running
+    size = int(next(l for l in open("/proc/self/status") if l.startswith("VmSize")).split()[1]) * 1024
+    resource.setrlimit(resource.RLIMIT_AS, (size + (256 << 20), resource.RLIM_INFINITY))
+    try:
+        dqkit.SkinningThreads(1024)
+    except RuntimeError as e:
+        print("error:", e)
+    assert np.array_equal(dqkit.skin_vertices(skin, world, pool=dqkit.SkinningThreads(2)), one)
+print("ok")
+"""
+
+
+@pytest.mark.parametrize("case", ["fork", "no threads"])
+def test_skinning_pool_across_fork_and_without_threads(case):
+    out = subprocess.run([sys.executable, "-c", POOL_SCRIPT, os.path.dirname(__file__), case], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr
+    if case == "fork":
+        assert "child: SkinningThreads: made in another process (before a fork)" in out.stdout
+    else:
+        assert "error: SkinningThreads(1024): could not start a thread: " in out.stdout
+    assert out.stdout.endswith("ok\n")
 
 
 def test_installed_module_imports_from_the_prefix(tmp_path):
