@@ -35,7 +35,7 @@ std::span<double> inout_vector(py::array& a, std::size_t n, const char* name) {
 /// The most threads a Python SkinningThreads starts: each is a system thread, started at once.
 constexpr unsigned kMaxPoolThreads = 1024;
 
-/// dq::SkinningThreads for Python: its threads started once; `busy` held while a job runs on it
+/// dq::SkinningThreads for Python: its threads started once; `busy_` held while a job runs on it
 /// (SkinningThreads::run is not reentrant, and Python threads may share a pool). A process forked
 /// from the one that made it (multiprocessing's default on Linux) has none of its threads: there
 /// the pool refuses to run, and is left undestroyed (joining threads that are not there would hang).
@@ -49,7 +49,7 @@ class SkinningPool {
   SkinningPool& operator=(const SkinningPool&) = delete;
   unsigned size() const noexcept { return pool_->size(); }
   /// f(pool) while no other call runs on the pool. The caller has released the GIL, or holds it
-  /// (SceneSkin.skin): a caller that holds `busy` never waits for the GIL, so neither can deadlock.
+  /// (SceneSkin.skin): a caller that holds `busy_` never waits for the GIL, so neither can deadlock.
   template <class F>
   dq::Status run(F f) {
     if (getpid() != owner_)
