@@ -8,6 +8,7 @@
 #include <string>
 #include <type_traits>
 
+#include "dq/util/assert.hpp"
 #include "frames.hpp"
 #include "lanes.hpp"
 #include "records.hpp"
@@ -188,9 +189,7 @@ Status check_frames(std::span<const int> parents, std::span<const DualQuaternion
   if (Status order = detail::parents_in_order(parents); !order) return order;
   if (local.size() != model.size() || (joints == 0 ? !local.empty() : local.size() % joints != 0))
     return Error{"local and model must hold the same whole number of frames of " + std::to_string(joints) + " joints"};
-  const auto address = [](const void* x) { return reinterpret_cast<std::uintptr_t>(x); };
-  if (!local.empty() && address(model.data()) < address(local.data() + local.size()) && address(local.data()) < address(model.data() + model.size()))
-    return Error{"model must not overlap local"};
+  if (overlaps(local, model)) return Error{"model must not overlap local"};
   return {};
 }
 template Status check_frames(std::span<const int>, std::span<const DualQuaternion<float>>, std::span<const DualQuaternion<float>>);
