@@ -3,7 +3,8 @@
 // plain per-vertex GLM code users write (glm::mat4 LBS, glm::dualquat DQS, glm::quat CoR; arrays of
 // structures) in the same binary, and STREAM's triad measured in the same run as the roof; and
 // DQS's bytes moved with no arithmetic (skin_streams), the most the memory allows its streams;
-// and each method on one thread with each instruction set the CPU has forced (dqkit_skinning_on_target).
+// and each method on one thread with each instruction set the CPU has forced (dqkit_skinning_on_target);
+// and small DQS jobs on one and two threads (dqkit_skinning_small_jobs).
 //
 // The skin: at least 2^20 vertices and at least four times the last-level cache in bytes (read
 // from the CPU), 4 influences each, 64 bones with random rigid binds and poses. Every GLM variant
@@ -172,6 +173,21 @@ void time_skinning(benchmark::State& state, SkinningMethod method, unsigned thre
   report(state, method, threads);
 }
 void dqkit_skinning(benchmark::State& state, SkinningMethod method) { time_skinning(state, method, static_cast<unsigned>(state.range(0))); }
+/// DQS jobs of the skin's first `vertices` vertices (in cache after the first iteration) on a pool
+/// of one and of two threads: what handing parts of a small job to a worker costs (docs/skinning.md,
+/// "Threads").
+void dqkit_skinning_small_jobs(benchmark::State& state) {
+  Fixture& f = fixture();
+  const std::size_t n = std::min(f.n, static_cast<std::size_t>(state.range(0)));
+  Output out(n);
+  SkinningThreads pool(static_cast<unsigned>(state.range(1)));
+  for (auto _ : state) {
+    if (!pool.run({&f.skin, &f.palette, SkinningMethod::dqs, out.view(), 0, n})) state.SkipWithError("job does not validate");
+    benchmark::DoNotOptimize(out.c[0].data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["vertices_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()) * static_cast<double>(n), benchmark::Counter::kIsRate);
+}
 /// One thread with the instruction set forced (simd::ScopedTarget): what each target brings, in one
 /// run. Registered in main for every target this CPU has.
 void dqkit_skinning_on_target(benchmark::State& state, SkinningMethod method, simd::Target target) {
@@ -348,6 +364,7 @@ BENCHMARK(dq::bench::Triad)->Name("Triad")->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK_CAPTURE(dqkit_skinning, lbs, SkinningMethod::lbs)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK_CAPTURE(dqkit_skinning, dqs, SkinningMethod::dqs)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK_CAPTURE(dqkit_skinning, cor, SkinningMethod::cor)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK(dqkit_skinning_small_jobs)->Name("dqkit_skinning_small_jobs/dqs")->ArgsProduct({{1024, 2048, 4096, 8192, 16384, 65536}, {1, 2}})->UseRealTime();
 BENCHMARK(skin_streams<StreamLayout::separate>)->Name("skin_streams/separate")->UseRealTime();
 BENCHMARK(skin_streams<StreamLayout::interleaved>)->Name("skin_streams/interleaved")->UseRealTime();
 BENCHMARK(glm_lbs)->Arg(1)->Arg(2)->UseRealTime();

@@ -12,7 +12,9 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <numeric>
+#include <utility>
 
 #include "dq/anim/forward_kinematics.hpp"
 #include "dq/convert/matrix.hpp"
@@ -76,11 +78,12 @@ struct Output {
                                                           &Output::nz, &Output::tx, &Output::ty, &Output::tz};
 };
 
+/// On `threads` threads with parts of 16 vertices and more, so that small skins are split too.
 Output run(const Skin& skin, std::span<const DualQuaternion<double>> world, SkinningMethod method, unsigned threads = 1) {
   SkinPalette palette(skin.bone_count());
   update_palette(skin, world, palette);
   Output out(skin.vertex_count());
-  SkinningThreads pool(threads);
+  SkinningThreads pool(threads, 16);
   const Status s = pool.run({&skin, &palette, method, out.view(skin.has_normals(), skin.has_tangents()), 0, skin.vertex_count()});
   EXPECT_TRUE(s.ok()) << s.error().message;
   return out;
@@ -305,6 +308,73 @@ TEST(Skinning, ThreadsGiveTheSameResult) {
   }
 }
 
+/// True when `out`'s positions and normals hold `expected`'s in [first, first + count), bit for bit,
+/// and the sentinel `fill` elsewhere.
+::testing::AssertionResult holds_range(const Output& out, const Output& expected, std::size_t first, std::size_t count, float fill) {
+  for (auto part : {&Output::px, &Output::py, &Output::pz, &Output::nx, &Output::ny, &Output::nz})
+    for (std::size_t v = 0; v < (out.*part).size(); ++v) {
+      const float want = v >= first && v - first < count ? (expected.*part)[v] : fill;
+      if (std::memcmp(&(out.*part)[v], &want, sizeof(float)) != 0)
+        return ::testing::AssertionFailure() << "vertex " << v << ": " << (out.*part)[v] << " where " << want << " belongs";
+    }
+  return ::testing::AssertionSuccess();
+}
+
+// The pool cuts a job into parts that its threads claim: for counts around the part sizes, on 2, 3
+// and 5 threads, with parts of 16 vertices and more, 48 and more and the default, the result is the
+// one-thread result bit for bit, and nothing outside the range is written.
+TEST(Skinning, ThreadsClaimPartsOfEveryCount) {
+  Random rng(8);
+  const std::size_t min = SkinningThreads::kDefaultMinPart, n = 3 * min + 100;
+  const Skin skin = *build_skin(random_skin(rng, n, 11, 4));
+  SkinPalette palette(skin.bone_count());
+  update_palette(skin, random_pose(rng, 11), palette);
+  Output reference(n);
+  ASSERT_TRUE(SkinningThreads(1).run({&skin, &palette, SkinningMethod::dqs, reference.view(true, false), 0, n}).ok());
+  const float fill = -std::numeric_limits<float>::quiet_NaN();
+  for (unsigned threads : {2u, 3u, 5u})
+    for (auto [asked, min_part] : {std::pair<std::size_t, std::size_t>{0, 16}, {33, 48}, {min, min}}) {
+      SkinningThreads pool(threads, asked);
+      ASSERT_EQ(pool.size(), threads);
+      ASSERT_EQ(pool.min_part(), min_part);
+      for (std::size_t first : {std::size_t{0}, std::size_t{5}})
+        for (std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{17}, min - 1, min, min + 1, 2 * min + 3, n - first}) {
+          SCOPED_TRACE(std::to_string(threads) + " threads, parts of " + std::to_string(min_part) + " and more, vertices " +
+                       std::to_string(first) + " + " + std::to_string(count));
+          Output out(n);
+          for (auto part : Output::parts) std::fill((out.*part).begin(), (out.*part).end(), fill);
+          ASSERT_TRUE(pool.run({&skin, &palette, SkinningMethod::dqs, out.view(true, false), first, count}).ok());
+          ASSERT_TRUE(holds_range(out, reference, first, count, fill));
+        }
+    }
+}
+
+// Jobs back to back on one pool, alternating between two outputs, two palettes and two ranges,
+// each output reset before its job: a worker that wakes late must not run a part of one job with
+// another's data, nor leave a part undone.
+TEST(Skinning, ThreadsRunJobsBackToBack) {
+  Random rng(9);
+  const std::size_t n = 2000, first[2] = {0, 7}, count[2] = {n, n - 300};
+  const Skin skin = *build_skin(random_skin(rng, n, 11, 4));
+  std::vector<SkinPalette> palettes;
+  std::vector<Output> out, reference;
+  for (std::size_t k = 0; k < 2; ++k) {
+    palettes.emplace_back(skin.bone_count());
+    update_palette(skin, random_pose(rng, 11), palettes[k]);
+    out.emplace_back(n);
+    reference.emplace_back(n);
+    ASSERT_TRUE(SkinningThreads(1).run({&skin, &palettes[k], SkinningMethod::dqs, reference[k].view(true, false), 0, n}).ok());
+  }
+  const float fill = -std::numeric_limits<float>::quiet_NaN();
+  SkinningThreads pool(3, 16);
+  for (std::size_t i = 0; i < 400; ++i) {
+    const std::size_t k = i % 2;
+    for (auto part : Output::parts) std::fill((out[k].*part).begin(), (out[k].*part).end(), fill);
+    ASSERT_TRUE(pool.run({&skin, &palettes[k], SkinningMethod::dqs, out[k].view(true, false), first[k], count[k]}).ok());
+    ASSERT_TRUE(holds_range(out[k], reference[k], first[k], count[k], fill)) << "job " << i;
+  }
+}
+
 TEST(Skinning, TangentsRotateWithTheBone) {
   const Skin skin = *build_skin(two_bone_cylinder());
   ASSERT_TRUE(skin.has_tangents());
@@ -421,7 +491,7 @@ TEST(SkinningTargets, EveryTargetIsTheScalarPathBitForBit) {
             // the vectors' loads and stores meet lines whole at first = 0 and split at 3.
             ComponentArrays<float, 9> a(n);
             const SkinnedVertices view{a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8]};
-            ASSERT_TRUE(SkinningThreads(2).run({&skin, &palette, m, view, first, n - first - 2}).ok());
+            ASSERT_TRUE(SkinningThreads(2, 16).run({&skin, &palette, m, view, first, n - first - 2}).ok());
             Output aligned(n);
             for (std::size_t k = 0; k < std::size(Output::parts); ++k) std::copy(a[k].begin(), a[k].end(), (aligned.*Output::parts[k]).begin());
             results.push_back(std::move(aligned));
@@ -499,7 +569,7 @@ SkinnedFrame skin_scene(const ImportedScene& scene, std::span<const DualQuaterni
   Expected<SceneSkin> skins = SceneSkin::build(scene);
   EXPECT_TRUE(skins.has_value()) << (skins ? "" : skins.error().message);
   SkinnedFrame frame = skins->make_frame();
-  SkinningThreads threads(2);
+  SkinningThreads threads(2, 16);  // parts of 16 vertices and more: the meshes are split
   const Status s = skins->skin(world, m, threads, frame);
   EXPECT_TRUE(s.ok()) << s.error().message;
   return frame;

@@ -1,8 +1,9 @@
 // Inverse kinematics (dq::IkSolver over KinematicModel and IkTask) and skinning (Skin, SceneSkin,
 // batch skinning of (V, 3) vertices).
-#include <unistd.h>
+#include <pthread.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <memory>
 #include <mutex>
@@ -35,33 +36,43 @@ std::span<double> inout_vector(py::array& a, std::size_t n, const char* name) {
 /// The most threads a Python SkinningThreads starts: each is a system thread, started at once.
 constexpr unsigned kMaxPoolThreads = 1024;
 
+/// Forks of this process so far, as seen by this process: a child counts one more than its parent
+/// at the moment of the fork (a pthread_atfork handler; getpid() would be a system call per call,
+/// 1.4 µs on the machine of docs/python.md).
+std::atomic<unsigned long> forks{0};
+
 /// dq::SkinningThreads for Python: its threads started once; `busy_` held while a job runs on it
 /// (SkinningThreads::run is not reentrant, and Python threads may share a pool). A process forked
 /// from the one that made it (multiprocessing's default on Linux) has none of its threads: there
 /// the pool refuses to run, and is left undestroyed (joining threads that are not there would hang).
 class SkinningPool {
  public:
-  explicit SkinningPool(unsigned threads) : pool_(std::make_unique<dq::SkinningThreads>(threads)) {}
+  SkinningPool(unsigned threads, std::size_t min_part) : pool_(std::make_unique<dq::SkinningThreads>(threads, min_part)) {
+    static const int counting = pthread_atfork(nullptr, nullptr, [] { forks.fetch_add(1); });
+    if (counting != 0) throw std::system_error(counting, std::generic_category(), "pthread_atfork");
+  }
   ~SkinningPool() {
-    if (getpid() != owner_) (void)pool_.release();
+    if (forked()) (void)pool_.release();
   }
   SkinningPool(const SkinningPool&) = delete;
   SkinningPool& operator=(const SkinningPool&) = delete;
   unsigned size() const noexcept { return pool_->size(); }
+  std::size_t min_part() const noexcept { return pool_->min_part(); }
   /// f(pool) while no other call runs on the pool. The caller has released the GIL, or holds it
   /// (SceneSkin.skin): a caller that holds `busy_` never waits for the GIL, so neither can deadlock.
   template <class F>
   dq::Status run(F f) {
-    if (getpid() != owner_)
+    if (forked())
       throw std::runtime_error("SkinningThreads: made in another process (before a fork), which has its threads; make a new one here");
     std::lock_guard lock(busy_);
     return f(*pool_);
   }
 
  private:
+  bool forked() const noexcept { return forks.load(std::memory_order_relaxed) != forks_at_start_; }
   std::unique_ptr<dq::SkinningThreads> pool_;
   std::mutex busy_;
-  pid_t owner_ = getpid();
+  unsigned long forks_at_start_ = forks.load();
 };
 
 void bind_ik_types(py::module_& m) {
@@ -264,19 +275,26 @@ void bind_skin_types(py::module_& m) {
      "A skin from (V, 3) positions, (V, K) bone indices and weights (zero weights ignored), (B, 4, 4) inverse bind matrices "
      "and optional (T, 3) triangles (needed for SkinningMethod.cor).");
   py::class_<SkinningPool>(m, "SkinningThreads",
-                           "Threads for skinning, started once and kept for every call given this pool; one call at a time.")
-      .def(py::init([](const py::int_& threads) {
+                           "Threads for skinning, started once and kept for every call given this pool; one call at a time. "
+                           "A call cuts its vertices into parts that the threads claim, of min_part vertices or more but the last, "
+                           "so a call of at most min_part vertices runs on the calling thread alone.")
+      .def(py::init([](const py::int_& threads, std::size_t min_part) {
              const unsigned n = thread_count(threads, kMaxPoolThreads);
              const unsigned total = n == 0 ? std::clamp(std::thread::hardware_concurrency(), 1u, kMaxPoolThreads) : n;
              try {
-               return std::make_unique<SkinningPool>(total);
+               return std::make_unique<SkinningPool>(total, min_part);
              } catch (const std::system_error& e) {
                throw std::runtime_error("SkinningThreads(" + std::to_string(total) + "): could not start a thread: " + e.what());
              }
            }),
-           py::arg("threads"), "threads: the total, the calling thread included (at most 1024); 0: every hardware thread.")
+           py::arg("threads"), py::arg("min_part") = dq::SkinningThreads::kDefaultMinPart,
+           "threads: the total, the calling thread included (at most 1024); 0: every hardware thread. "
+           "min_part: the fewest vertices in a part but the last, rounded up to a multiple of 16.")
       .def_property_readonly("size", &SkinningPool::size, "Threads, the calling thread included.")
-      .def("__repr__", [](const SkinningPool& p) { return "SkinningThreads(" + std::to_string(p.size()) + ")"; });
+      .def_property_readonly("min_part", &SkinningPool::min_part, "The fewest vertices in a part but the last (a multiple of 16).")
+      .def("__repr__", [](const SkinningPool& p) {
+        return "SkinningThreads(" + std::to_string(p.size()) + ", min_part=" + std::to_string(p.min_part()) + ")";
+      });
   m.def("skin_vertices", [](const dq::Skin& skin, py::handle bone_world, dq::SkinningMethod method, std::optional<SkinningPool*> pool) {
     const auto bw = dual_quaternions_from_numpy(bone_world, "bone_world");
     if (bw.size() != skin.bone_count())

@@ -1,6 +1,7 @@
 #include "dq/skin/skinning.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -371,9 +372,20 @@ void SkinningJob::run() const {
   }
 }
 
-SkinningThreads::SkinningThreads(unsigned threads) {
+namespace {
+std::size_t whole_vectors(std::size_t vertices) { return (vertices + 15) / 16 * 16; }  // rounded up to AVX-512's 16 lanes
+
+void pause() noexcept {  // in a spin: lets the core's other thread run, and saves power
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+}  // namespace
+
+SkinningThreads::SkinningThreads(unsigned threads, std::size_t min_part)
+    : min_part_(std::max<std::size_t>(16, whole_vectors(std::min(min_part, std::numeric_limits<std::size_t>::max() - 15)))) {
   try {
-    for (unsigned i = 1; i < std::max(1u, threads); ++i) workers_.emplace_back([this, i] { work(i); });
+    for (unsigned i = 1; i < std::max(1u, threads); ++i) workers_.emplace_back([this] { work(); });
   } catch (...) {  // a thread that could not start (std::system_error): stop those that did, or their destruction would terminate
     stop();
     throw;
@@ -391,51 +403,58 @@ void SkinningThreads::stop() {
   for (auto& t : workers_) t.join();
 }
 
-namespace {
-/// Part i of n of the job's range, cut at multiples of 16 vertices (whole SIMD vectors).
-SkinningJob part_of(const SkinningJob& job, unsigned i, unsigned parts) {
-  const std::size_t chunk = ((job.count + parts - 1) / parts + 15) / 16 * 16;
-  SkinningJob p = job;
-  p.first = job.first + std::min(job.count, i * chunk);
-  p.count = std::min(job.count, (i + 1) * chunk) - (p.first - job.first);
-  return p;
+void SkinningThreads::run_parts(const SkinningJob& job) {
+  for (std::size_t i; (i = next_part_.fetch_add(1, std::memory_order_relaxed)) < parts_;) {
+    SkinningJob part = job;
+    part.first = job.first + i * part_size_;
+    part.count = std::min(part_size_, job.count - i * part_size_);
+    part.run();
+  }
 }
-}  // namespace
 
 Status SkinningThreads::run(const SkinningJob& job) {
   if (Status s = job.validate(); !s) return s;
-  if (workers_.empty()) {
+  // Parts of whole 16-vertex vectors, kPartsPerThread per thread unless that makes them smaller than min_part_.
+  const std::size_t part = std::max(min_part_, whole_vectors(job.count / (std::size_t{size()} * kPartsPerThread)));
+  if (workers_.empty() || job.count <= part) {
     job.run();
     return {};
   }
   {
-    std::lock_guard lock(mutex_);
+    std::lock_guard lock(mutex_);  // no worker holds a job here (the last run closed it with none joined)
     job_ = job;
-    pending_ = static_cast<unsigned>(workers_.size());
+    part_size_ = part;
+    parts_ = (job.count + part - 1) / part;
+    next_part_.store(0, std::memory_order_relaxed);
+    open_ = true;
     ++generation_;
   }
   start_.notify_all();
-  part_of(job, 0, size()).run();
+  run_parts(job);
+  // Every part is claimed; wait for the workers that joined, and close the job to the others. Their
+  // parts are short, so spin first: a sleep here would add a wake-up (tens of microseconds) to the job.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::microseconds(kSpinMicroseconds);
+  for (unsigned i = 0; joined_.load() != 0 && (++i % 64 != 0 || std::chrono::steady_clock::now() < give_up);) pause();
   std::unique_lock lock(mutex_);
-  done_.wait(lock, [this] { return pending_ == 0; });
+  done_.wait(lock, [this] { return joined_ == 0; });
+  open_ = false;
   return {};
 }
 
-void SkinningThreads::work(unsigned index) {
+void SkinningThreads::work() {
   std::size_t seen = 0;
   for (;;) {
-    SkinningJob job;
     {
       std::unique_lock lock(mutex_);
-      start_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      start_.wait(lock, [&] { return stop_ || (open_ && generation_ != seen); });
       if (stop_) return;
       seen = generation_;
-      job = job_;
+      ++joined_;
     }
-    part_of(job, index, size()).run();
+    run_parts(job_);  // job_ does not change while a worker has joined
     {
       std::lock_guard lock(mutex_);
-      --pending_;
+      --joined_;
     }
     done_.notify_one();
   }

@@ -185,14 +185,14 @@ def test_import_runs_the_packaged_worker_without_forking():
 
 
 def test_scene_skin_on_a_pool():
-    # SceneSkin.skin on a pool of two: three meshes of 648 to 1196 vertices, each split in two
-    # parts; every mesh the one-thread result bit for bit.
+    # SceneSkin.skin on a pool of two with parts of 16 vertices and more: three meshes of 648 to
+    # 1196 vertices, each cut into 8 parts; every mesh the one-thread result bit for bit.
     if not dqkit.HAVE_IMPORT:
         pytest.skip("built without Assimp")
     scene = dqkit.import_scene(str(need(MODELS / "X" / "BCN_Epileptic.X")))
     assert len(scene.meshes) == 3 and min(len(m.positions) for m in scene.meshes) > 32
     skin = dqkit.SceneSkin.build(scene)
-    pool = dqkit.SkinningThreads(2)
+    pool = dqkit.SkinningThreads(2, min_part=16)
     for time in (0.0, 0.4, 1.0):
         world = dqkit.pose_at(scene, 0, time)
         for method in (dqkit.SkinningMethod.lbs, dqkit.SkinningMethod.dqs):
@@ -293,21 +293,25 @@ def small_skin(rng, V=200, B=5, K=3):
 
 
 def test_skinning_pools_give_the_one_thread_result(rng):
-    # A SkinningThreads pool splits the vertices at multiples of 16 (200 vertices on 2 threads: 112
-    # and 88; on 3: 80, 80 and 40): every method bit for bit the one-thread result. Python threads
-    # sharing one pool take turns on it, each with its own result (joined with a timeout: a broken
-    # pool fails the test instead of hanging it).
+    # A SkinningThreads pool cuts the vertices into parts of whole 16-vertex vectors, 4 per thread
+    # and none below min_part (200 vertices on 2 threads with min_part=16: 7 parts of 32 and one
+    # of 8; on 3: parts of 32 too; with the default min_part, 4096, one part): every method bit for
+    # bit the one-thread result. Python threads sharing one pool take turns on it, each with its
+    # own result (joined with a timeout: a broken pool fails the test instead of hanging it).
     skin = small_skin(rng)
     worlds = [random_rigid(rng, 5, scale=1.0)[0] for _ in range(6)]
     methods = [dqkit.SkinningMethod.lbs, dqkit.SkinningMethod.dqs, dqkit.SkinningMethod.cor]
     one = [dqkit.skin_vertices(skin, w, m) for w in worlds for m in methods]
-    for n in (2, 3, 0):
-        pool = dqkit.SkinningThreads(n)
-        assert pool.size == (n or min(os.cpu_count(), 1024)) and repr(pool) == f"SkinningThreads({pool.size})"
+    for n, min_part in ((2, 16), (3, 0), (0, 1), (2, None)):
+        pool = dqkit.SkinningThreads(n) if min_part is None else dqkit.SkinningThreads(n, min_part=min_part)
+        assert pool.size == (n or min(os.cpu_count(), 1024))
+        assert pool.min_part == (4096 if min_part is None else 16)  # rounded up to a multiple of 16, at least 16
+        assert repr(pool) == f"SkinningThreads({pool.size}, min_part={pool.min_part})"
         got = [dqkit.skin_vertices(skin, w, m, pool=pool) for w in worlds for m in methods]
         for a, b in zip(got, one):
             np.testing.assert_array_equal(a.view(np.uint32), b.view(np.uint32))
-    pool = dqkit.SkinningThreads(2)
+    assert dqkit.SkinningThreads(2, min_part=4097).min_part == 4112
+    pool = dqkit.SkinningThreads(2, min_part=16)
     results = [None] * len(one)
 
     def work(i):
@@ -327,6 +331,8 @@ def test_skinning_pools_give_the_one_thread_result(rng):
             dqkit.SkinningThreads(bad)  # each a system thread, started at once
     with pytest.raises(TypeError):
         dqkit.SkinningThreads(True)
+    with pytest.raises(TypeError):
+        dqkit.SkinningThreads(2, min_part=-1)
     with pytest.raises(TypeError):
         dqkit.skin_vertices(skin, worlds[0], pool=2)  # a pool, not a count
     np.testing.assert_array_equal(dqkit.skin_vertices(skin, worlds[0], dqkit.SkinningMethod.lbs, pool=None), one[0])

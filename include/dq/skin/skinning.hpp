@@ -16,6 +16,7 @@
 // vertex counts that are no multiple of the width finish on the scalar path.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <mutex>
@@ -72,30 +73,49 @@ struct SkinningJob {
 };
 
 /// A fixed set of worker threads for skinning jobs, started once and reused every frame (no
-/// thread creation or allocation per frame). run() splits a job's range into equal parts, one
-/// per thread (the calling thread takes the first), and returns when all are done.
+/// thread creation or allocation per frame). run() cuts a job's range into parts of whole 16-vertex
+/// vectors, kPartsPerThread per thread but none but the last smaller than `min_part` vertices; the calling thread
+/// and the workers claim parts until none is left, and run() returns when the claimed parts are
+/// done. A worker that wakes late claims fewer parts, or none, and a job of at most `min_part`
+/// vertices runs on the calling thread alone, so a small job costs about its time on one thread and
+/// not that plus a worker's wake-up (docs/skinning.md, "Threads", has the measurements). The result
+/// does not depend on who runs a part. One run() at a time: calls from several threads need a lock
+/// of their own (the Python binding has one).
 class SkinningThreads {
  public:
-  /// `threads`: the total, the caller included (0 counts as 1). Throws std::system_error, with no
-  /// thread left running, when the system cannot start one.
-  explicit SkinningThreads(unsigned threads);
+  /// The default `min_part`: on the machine of docs/skinning.md, handing a part to a worker costs
+  /// a few microseconds, and 4096 vertices take about ten in cache.
+  static constexpr std::size_t kDefaultMinPart = 4096;
+  static constexpr unsigned kPartsPerThread = 4;
+  static constexpr unsigned kSpinMicroseconds = 100;  ///< run() waits this long for workers before it sleeps
+
+  /// `threads`: the total, the caller included (0 counts as 1). `min_part` is rounded up to a
+  /// multiple of 16 (0 counts as 16). Throws std::system_error, with no thread left running, when
+  /// the system cannot start one.
+  explicit SkinningThreads(unsigned threads, std::size_t min_part = kDefaultMinPart);
   ~SkinningThreads();
   SkinningThreads(const SkinningThreads&) = delete;
   SkinningThreads& operator=(const SkinningThreads&) = delete;
   unsigned size() const noexcept { return static_cast<unsigned>(workers_.size()) + 1; }
-  /// Validates, then runs the job split across the threads.
+  std::size_t min_part() const noexcept { return min_part_; }
+  /// Validates, then runs the job on the calling thread and the workers.
   Status run(const SkinningJob& job);
 
  private:
-  void work(unsigned index);
-  void stop();  ///< ends and joins the workers
+  void work();
+  void stop();                             ///< ends and joins the workers
+  void run_parts(const SkinningJob& job);  ///< claims parts of the current job until none is left
+  std::size_t min_part_;
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable start_, done_;
+  // Under mutex_: the job, whether workers may still join it (open_), and how many have.
   SkinningJob job_;
+  std::size_t part_size_ = 0, parts_ = 0;
+  std::atomic<std::size_t> next_part_{0};  // claimed by fetch_add; reset only while no worker holds the job
   std::size_t generation_ = 0;
-  unsigned pending_ = 0;
-  bool stop_ = false;
+  std::atomic<unsigned> joined_{0};       // changed under mutex_; read without it while run() spins
+  bool open_ = false, stop_ = false;
 };
 
 }  // namespace dq
