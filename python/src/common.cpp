@@ -71,14 +71,15 @@ py::array_t<std::int64_t, py::array::c_style> as_integers(py::handle obj, int nd
       py::module_::import("numpy").attr("ascontiguousarray")(any, py::dtype::of<std::int64_t>()).release());
 }
 
-unsigned thread_count(const py::int_& threads, unsigned most) {
-  if (PyBool_Check(threads.ptr())) throw py::type_error("threads: expected an int, got bool");
+unsigned thread_count(const ThreadsArg& threads, unsigned most) {
+  const py::object n = py::reinterpret_steal<py::object>(PyNumber_Index(threads.value.ptr()));
+  if (!n) throw py::error_already_set();  // an __index__ that raised
   int overflow = 0;
-  const long long n = PyLong_AsLongLongAndOverflow(threads.ptr(), &overflow);
-  if (overflow != 0 || n < 0 || n > most)
+  const long long count = PyLong_AsLongLongAndOverflow(n.ptr(), &overflow);
+  if (overflow != 0 || count < 0 || count > most)
     throw py::value_error("threads: expected 0 (every hardware thread) or a number of threads up to " + std::to_string(most) +
-                          ", got " + std::string(py::str(py::handle(threads))));
-  return static_cast<unsigned>(n);
+                          ", got " + std::string(py::str(n)));
+  return static_cast<unsigned>(count);
 }
 
 void require_existing(const std::filesystem::path& path) {

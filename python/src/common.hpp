@@ -56,9 +56,13 @@ T writable(dq::Expected<T>&& e) {
   return std::move(*e);
 }
 
-/// A `threads` argument: 0 (every hardware thread) or a number of threads up to `most`, else
-/// ValueError naming it (a bool: TypeError).
-unsigned thread_count(const py::int_& threads, unsigned most);
+/// A `threads` argument as passed: an int or any other integer (an object with __index__, such as
+/// NumPy's int64), not a bool (the caster below; int in signatures).
+struct ThreadsArg {
+  py::object value;
+};
+/// 0 (every hardware thread) or a number of threads up to `most`, else ValueError naming it.
+unsigned thread_count(const ThreadsArg& threads, unsigned most);
 
 /// The text of operator<< (the C++ printing, w, x, y, z order).
 template <class X>
@@ -246,5 +250,18 @@ struct type_caster<dqpy::ArrayLike> {
     return true;
   }
   static handle cast(const dqpy::ArrayLike& a, return_value_policy, handle) { return a.value.inc_ref(); }
+};
+}  // namespace pybind11::detail
+
+namespace pybind11::detail {
+template <>
+struct type_caster<dqpy::ThreadsArg> {
+  PYBIND11_TYPE_CASTER(dqpy::ThreadsArg, const_name("int"));
+  bool load(handle src, bool) {  // a bool is an int to Python (and NumPy's bool_ has a deprecated __index__), but not a count
+    if (!src || PyBool_Check(src.ptr()) || !PyIndex_Check(src.ptr())) return false;
+    if (!PyLong_Check(src.ptr()) && isinstance(src, module_::import("numpy").attr("bool_"))) return false;
+    value.value = reinterpret_borrow<object>(src);
+    return true;
+  }
 };
 }  // namespace pybind11::detail

@@ -278,7 +278,7 @@ void bind_skin_types(py::module_& m) {
                            "Threads for skinning, started once and kept for every call given this pool; one call at a time. "
                            "A call cuts its vertices into parts that the threads claim, of min_part vertices or more but the last, "
                            "so a call of at most min_part vertices runs on the calling thread alone.")
-      .def(py::init([](const py::int_& threads, std::size_t min_part) {
+      .def(py::init([](const ThreadsArg& threads, std::size_t min_part) {
              const unsigned n = thread_count(threads, kMaxPoolThreads);
              const unsigned total = n == 0 ? std::clamp(std::thread::hardware_concurrency(), 1u, kMaxPoolThreads) : n;
              try {

@@ -45,10 +45,12 @@ def test_skeleton_built_from_python():
     np.testing.assert_array_equal(dqkit.local_to_model(s, s.rest_pose, threads=0), model)
     assert dqkit.local_to_model(s, np.zeros((0, 3, 8)), threads=0).shape == (0, 3, 8)
     np.testing.assert_array_equal(dqkit.local_to_model(s, np.array([s.rest_pose] * 40), threads=2), [model] * 40)
-    for bad in (-1, 2**32, 2**64, -2**70):
+    # NumPy's integers are counts too (they have __index__), with the same range.
+    np.testing.assert_array_equal(dqkit.local_to_model(s, np.array([s.rest_pose] * 40), threads=np.int64(2)), [model] * 40)
+    for bad in (-1, 2**32, 2**64, -2**70, np.int64(-3), np.uint64(2**63)):
         with pytest.raises(ValueError, match=rf"threads: expected 0 \(every hardware thread\) or a number of threads up to 4294967295, got {bad}"):
             dqkit.local_to_model(s, s.rest_pose, threads=bad)
-    for bad in (True, 1.5, "2"):
+    for bad in (True, np.True_, 1.5, np.float64(2.0), "2", np.array([2])):
         with pytest.raises(TypeError):
             dqkit.local_to_model(s, s.rest_pose, threads=bad)
     bad = dqkit.RawSkeleton()
@@ -326,9 +328,10 @@ def test_skinning_pools_give_the_one_thread_result(rng):
         assert not t.is_alive(), "a call on the shared pool did not return"
     for a, b in zip(results, one):
         np.testing.assert_array_equal(a.view(np.uint32), b.view(np.uint32))
-    for bad in (-1, 1025, 2**64):
+    for bad in (-1, 1025, 2**64, np.int32(-1)):
         with pytest.raises(ValueError, match=rf"threads: expected 0 \(every hardware thread\) or a number of threads up to 1024, got {bad}"):
             dqkit.SkinningThreads(bad)  # each a system thread, started at once
+    assert dqkit.SkinningThreads(np.uint8(3)).size == 3
     with pytest.raises(TypeError):
         dqkit.SkinningThreads(True)
     with pytest.raises(TypeError):
