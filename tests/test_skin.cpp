@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <cfenv>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
@@ -347,6 +348,11 @@ TEST(Skinning, ThreadsClaimPartsOfEveryCount) {
           ASSERT_TRUE(holds_range(out, reference, first, count, fill));
         }
     }
+  SkinningThreads largest(2, std::numeric_limits<std::size_t>::max());  // rounded down to the last multiple of 16
+  ASSERT_EQ(largest.min_part(), std::numeric_limits<std::size_t>::max() - 15);
+  Output out(n);
+  ASSERT_TRUE(largest.run({&skin, &palette, SkinningMethod::dqs, out.view(true, false), 0, n}).ok());
+  ASSERT_TRUE(holds_range(out, reference, 0, n, 0.0f));
 }
 
 // Jobs back to back on one pool, alternating between two outputs, two palettes and two ranges,
@@ -373,6 +379,30 @@ TEST(Skinning, ThreadsRunJobsBackToBack) {
     ASSERT_TRUE(pool.run({&skin, &palettes[k], SkinningMethod::dqs, out[k].view(true, false), first[k], count[k]}).ok());
     ASSERT_TRUE(holds_range(out[k], reference[k], first[k], count[k], fill)) << "job " << i;
   }
+}
+
+// Workers take the caller's floating-point environment for each job: with the caller rounding
+// upward, the pool's result is the one-thread result in that mode bit for bit (and differs from
+// the result rounded to nearest, so the mode reaches the arithmetic). The pool is made before the
+// mode changes, so its threads started in the default mode. The job is large (about 0.3 ms on one
+// thread), so that the workers wake in time to claim parts.
+TEST(Skinning, ThreadsTakeTheCallersRoundingMode) {
+  Random rng(10);
+  const std::size_t n = 100000;
+  const Skin skin = *build_skin(random_skin(rng, n, 11, 4));
+  SkinPalette palette(skin.bone_count());
+  update_palette(skin, random_pose(rng, 11), palette);
+  SkinningThreads pool(3, 16);
+  Output nearest(n), upward(n), pooled(n);
+  ASSERT_TRUE(SkinningThreads(1).run({&skin, &palette, SkinningMethod::dqs, nearest.view(true, false), 0, n}).ok());
+  struct Upward {
+    Upward() { std::fesetround(FE_UPWARD); }
+    ~Upward() { std::fesetround(FE_TONEAREST); }
+  } upward_rounding;
+  ASSERT_TRUE(SkinningThreads(1).run({&skin, &palette, SkinningMethod::dqs, upward.view(true, false), 0, n}).ok());
+  ASSERT_TRUE(pool.run({&skin, &palette, SkinningMethod::dqs, pooled.view(true, false), 0, n}).ok());
+  ASSERT_NE(upward.px, nearest.px);
+  ASSERT_TRUE(holds_range(pooled, upward, 0, n, 0.0f));
 }
 
 TEST(Skinning, TangentsRotateWithTheBone) {

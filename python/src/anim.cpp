@@ -128,7 +128,7 @@ void bind_skeleton(py::module_& m) {
         py::arg("a"), py::arg("b"), py::arg("u"), py::arg("mode"),
         "Between two keys at fraction u, as the Interpolation says (screw: sclerp; dual_quaternion_linear: dlb; decoupled; matrix).");
 
-  m.def("local_to_model", [](py::handle parents_obj, ArrayLike local, const ThreadsArg& threads_obj) {
+  m.def("local_to_model", [](py::handle parents_obj, ArrayLike local, const IntegerArg& threads_obj) {
     const std::vector<int> parents = parents_of(parents_obj);
     const auto joints = std::to_string(parents.size());
     const unsigned threads = thread_count(threads_obj, std::numeric_limits<unsigned>::max());

@@ -71,15 +71,33 @@ py::array_t<std::int64_t, py::array::c_style> as_integers(py::handle obj, int nd
       py::module_::import("numpy").attr("ascontiguousarray")(any, py::dtype::of<std::int64_t>()).release());
 }
 
-unsigned thread_count(const ThreadsArg& threads, unsigned most) {
-  const py::object n = py::reinterpret_steal<py::object>(PyNumber_Index(threads.value.ptr()));
+namespace {
+py::object index_of(const IntegerArg& value) {  // the int that value's __index__ gives
+  py::object n = py::reinterpret_steal<py::object>(PyNumber_Index(value.value.ptr()));
   if (!n) throw py::error_already_set();  // an __index__ that raised
+  return n;
+}
+}  // namespace
+
+unsigned thread_count(const IntegerArg& threads, unsigned most) {
+  const py::object n = index_of(threads);
   int overflow = 0;
   const long long count = PyLong_AsLongLongAndOverflow(n.ptr(), &overflow);
   if (overflow != 0 || count < 0 || count > most)
     throw py::value_error("threads: expected 0 (every hardware thread) or a number of threads up to " + std::to_string(most) +
                           ", got " + std::string(py::str(n)));
   return static_cast<unsigned>(count);
+}
+
+std::size_t size_count(const IntegerArg& value, const char* name) {
+  const py::object n = index_of(value);
+  const unsigned long long count = PyLong_AsUnsignedLongLong(n.ptr());
+  if (PyErr_Occurred() || count > std::numeric_limits<std::size_t>::max()) {
+    PyErr_Clear();  // negative or too large: OverflowError, reported as the ValueError below
+    throw py::value_error(std::string(name) + ": expected a count from 0 to " + std::to_string(std::numeric_limits<std::size_t>::max()) +
+                          ", got " + std::string(py::str(n)));
+  }
+  return static_cast<std::size_t>(count);
 }
 
 void require_existing(const std::filesystem::path& path) {

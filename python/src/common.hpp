@@ -56,13 +56,16 @@ T writable(dq::Expected<T>&& e) {
   return std::move(*e);
 }
 
-/// A `threads` argument as passed: an int or any other integer (an object with __index__, such as
-/// NumPy's int64), not a bool (the caster below; int in signatures).
-struct ThreadsArg {
+/// A count as passed: an int or any other integer (an object with __index__, such as NumPy's
+/// int64), not a bool (the caster below; int in signatures).
+struct IntegerArg {
   py::object value;
 };
-/// 0 (every hardware thread) or a number of threads up to `most`, else ValueError naming it.
-unsigned thread_count(const ThreadsArg& threads, unsigned most);
+/// A `threads` argument: 0 (every hardware thread) or a number of threads up to `most`, else
+/// ValueError naming it.
+unsigned thread_count(const IntegerArg& threads, unsigned most);
+/// A count from 0 to SIZE_MAX, else ValueError naming the argument.
+std::size_t size_count(const IntegerArg& value, const char* name);
 
 /// The text of operator<< (the C++ printing, w, x, y, z order).
 template <class X>
@@ -255,13 +258,14 @@ struct type_caster<dqpy::ArrayLike> {
 
 namespace pybind11::detail {
 template <>
-struct type_caster<dqpy::ThreadsArg> {
-  PYBIND11_TYPE_CASTER(dqpy::ThreadsArg, const_name("int"));
+struct type_caster<dqpy::IntegerArg> {
+  PYBIND11_TYPE_CASTER(dqpy::IntegerArg, const_name("int"));
   bool load(handle src, bool) {  // a bool is an int to Python (and NumPy's bool_ has a deprecated __index__), but not a count
     if (!src || PyBool_Check(src.ptr()) || !PyIndex_Check(src.ptr())) return false;
     if (!PyLong_Check(src.ptr()) && isinstance(src, module_::import("numpy").attr("bool_"))) return false;
     value.value = reinterpret_borrow<object>(src);
     return true;
   }
+  static handle cast(const dqpy::IntegerArg& a, return_value_policy, handle) { return a.value.inc_ref(); }  // defaults
 };
 }  // namespace pybind11::detail

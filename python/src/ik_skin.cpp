@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <system_error>
 #include <thread>
 
@@ -41,16 +43,20 @@ constexpr unsigned kMaxPoolThreads = 1024;
 /// 1.4 µs on the machine of docs/python.md).
 std::atomic<unsigned long> forks{0};
 
+/// The count of forks so far, the handler that counts them registered first (once).
+unsigned long forks_so_far() {
+  static const int registered = pthread_atfork(nullptr, nullptr, [] { forks.fetch_add(1); });
+  if (registered != 0) throw std::runtime_error("SkinningThreads: cannot watch for forks (pthread_atfork: " + std::string(std::strerror(registered)) + ")");
+  return forks.load();
+}
+
 /// dq::SkinningThreads for Python: its threads started once; `busy_` held while a job runs on it
 /// (SkinningThreads::run is not reentrant, and Python threads may share a pool). A process forked
 /// from the one that made it (multiprocessing's default on Linux) has none of its threads: there
 /// the pool refuses to run, and is left undestroyed (joining threads that are not there would hang).
 class SkinningPool {
  public:
-  SkinningPool(unsigned threads, std::size_t min_part) : pool_(std::make_unique<dq::SkinningThreads>(threads, min_part)) {
-    static const int counting = pthread_atfork(nullptr, nullptr, [] { forks.fetch_add(1); });
-    if (counting != 0) throw std::system_error(counting, std::generic_category(), "pthread_atfork");
-  }
+  SkinningPool(unsigned threads, std::size_t min_part) : pool_(std::make_unique<dq::SkinningThreads>(threads, min_part)) {}
   ~SkinningPool() {
     if (forked()) (void)pool_.release();
   }
@@ -70,9 +76,9 @@ class SkinningPool {
 
  private:
   bool forked() const noexcept { return forks.load(std::memory_order_relaxed) != forks_at_start_; }
+  unsigned long forks_at_start_ = forks_so_far();  // before the threads start: a fork meanwhile is seen
   std::unique_ptr<dq::SkinningThreads> pool_;
   std::mutex busy_;
-  unsigned long forks_at_start_ = forks.load();
 };
 
 void bind_ik_types(py::module_& m) {
@@ -278,7 +284,8 @@ void bind_skin_types(py::module_& m) {
                            "Threads for skinning, started once and kept for every call given this pool; one call at a time. "
                            "A call cuts its vertices into parts that the threads claim, of min_part vertices or more but the last, "
                            "so a call of at most min_part vertices runs on the calling thread alone.")
-      .def(py::init([](const ThreadsArg& threads, std::size_t min_part) {
+      .def(py::init([](const IntegerArg& threads, const IntegerArg& min_part_obj) {
+             const std::size_t min_part = size_count(min_part_obj, "min_part");
              const unsigned n = thread_count(threads, kMaxPoolThreads);
              const unsigned total = n == 0 ? std::clamp(std::thread::hardware_concurrency(), 1u, kMaxPoolThreads) : n;
              try {
@@ -287,7 +294,7 @@ void bind_skin_types(py::module_& m) {
                throw std::runtime_error("SkinningThreads(" + std::to_string(total) + "): could not start a thread: " + e.what());
              }
            }),
-           py::arg("threads"), py::arg("min_part") = dq::SkinningThreads::kDefaultMinPart,
+           py::arg("threads"), py::arg("min_part") = IntegerArg{py::int_(dq::SkinningThreads::kDefaultMinPart)},
            "threads: the total, the calling thread included (at most 1024); 0: every hardware thread. "
            "min_part: the fewest vertices in a part but the last, rounded up to a multiple of 16.")
       .def_property_readonly("size", &SkinningPool::size, "Threads, the calling thread included.")

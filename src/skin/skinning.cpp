@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cfenv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -403,7 +404,7 @@ void SkinningThreads::stop() {
   for (auto& t : workers_) t.join();
 }
 
-void SkinningThreads::run_parts(const SkinningJob& job) {
+void SkinningThreads::run_parts(const SkinningJob& job) noexcept {
   for (std::size_t i; (i = next_part_.fetch_add(1, std::memory_order_relaxed)) < parts_;) {
     SkinningJob part = job;
     part.first = job.first + i * part_size_;
@@ -414,8 +415,9 @@ void SkinningThreads::run_parts(const SkinningJob& job) {
 
 Status SkinningThreads::run(const SkinningJob& job) {
   if (Status s = job.validate(); !s) return s;
-  // Parts of whole 16-vertex vectors, kPartsPerThread per thread unless that makes them smaller than min_part_.
-  const std::size_t part = std::max(min_part_, whole_vectors(job.count / (std::size_t{size()} * kPartsPerThread)));
+  // Parts of whole 16-vertex vectors, at most kPartsPerThread per thread, none but the last smaller than min_part_.
+  const std::size_t most_parts = std::size_t{size()} * kPartsPerThread;
+  const std::size_t part = std::max(min_part_, whole_vectors(job.count / most_parts + (job.count % most_parts != 0)));
   if (workers_.empty() || job.count <= part) {
     job.run();
     return {};
@@ -424,7 +426,8 @@ Status SkinningThreads::run(const SkinningJob& job) {
     std::lock_guard lock(mutex_);  // no worker holds a job here (the last run closed it with none joined)
     job_ = job;
     part_size_ = part;
-    parts_ = (job.count + part - 1) / part;
+    parts_ = job.count / part + (job.count % part != 0);
+    std::fegetenv(&env_);  // rounding and flush-to-zero as the caller has them, for the workers too
     next_part_.store(0, std::memory_order_relaxed);
     open_ = true;
     ++generation_;
@@ -450,6 +453,7 @@ void SkinningThreads::work() {
       if (stop_) return;
       seen = generation_;
       ++joined_;
+      std::fesetenv(&env_);
     }
     run_parts(job_);  // job_ does not change while a worker has joined
     {

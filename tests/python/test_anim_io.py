@@ -188,7 +188,7 @@ def test_import_runs_the_packaged_worker_without_forking():
 
 def test_scene_skin_on_a_pool():
     # SceneSkin.skin on a pool of two with parts of 16 vertices and more: three meshes of 648 to
-    # 1196 vertices, each cut into 8 parts; every mesh the one-thread result bit for bit.
+    # 1196 vertices, each cut into 7 or 8 parts; every mesh the one-thread result bit for bit.
     if not dqkit.HAVE_IMPORT:
         pytest.skip("built without Assimp")
     scene = dqkit.import_scene(str(need(MODELS / "X" / "BCN_Epileptic.X")))
@@ -295,9 +295,9 @@ def small_skin(rng, V=200, B=5, K=3):
 
 
 def test_skinning_pools_give_the_one_thread_result(rng):
-    # A SkinningThreads pool cuts the vertices into parts of whole 16-vertex vectors, 4 per thread
-    # and none below min_part (200 vertices on 2 threads with min_part=16: 7 parts of 32 and one
-    # of 8; on 3: parts of 32 too; with the default min_part, 4096, one part): every method bit for
+    # A SkinningThreads pool cuts the vertices into parts of whole 16-vertex vectors, at most 4 per
+    # thread and none but the last below min_part (200 vertices on 2 or 3 threads with min_part=16:
+    # 6 parts of 32 and one of 8; with the default min_part, 4096, one part): every method bit for
     # bit the one-thread result. Python threads sharing one pool take turns on it, each with its
     # own result (joined with a timeout: a broken pool fails the test instead of hanging it).
     skin = small_skin(rng)
@@ -334,8 +334,12 @@ def test_skinning_pools_give_the_one_thread_result(rng):
     assert dqkit.SkinningThreads(np.uint8(3)).size == 3
     with pytest.raises(TypeError):
         dqkit.SkinningThreads(True)
-    with pytest.raises(TypeError):
+    with pytest.raises(ValueError, match="min_part: expected a count from 0 to 18446744073709551615, got -1"):
         dqkit.SkinningThreads(2, min_part=-1)
+    for bad in (True, np.False_, 16.0):
+        with pytest.raises(TypeError):
+            dqkit.SkinningThreads(2, min_part=bad)
+    assert dqkit.SkinningThreads(2, min_part=np.int16(40)).min_part == 48
     with pytest.raises(TypeError):
         dqkit.skin_vertices(skin, worlds[0], pool=2)  # a pool, not a count
     np.testing.assert_array_equal(dqkit.skin_vertices(skin, worlds[0], dqkit.SkinningMethod.lbs, pool=None), one[0])
@@ -349,7 +353,7 @@ sys.path.insert(0, sys.argv[1])
 from test_anim_io import small_skin
 skin = small_skin(np.random.default_rng(1))
 world = np.tile([1.0, 0, 0, 0, 0, 0, 0, 0], (5, 1))
-pool = dqkit.SkinningThreads(2)
+pool = dqkit.SkinningThreads(2, min_part=16)  # 200 vertices: split, so the parent's check uses the worker
 one = dqkit.skin_vertices(skin, world, pool=pool)
 if sys.argv[2] == "fork":
     pid = os.fork()

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <atomic>
+#include <cfenv>
 #include <condition_variable>
 #include <cstddef>
 #include <mutex>
@@ -74,13 +75,14 @@ struct SkinningJob {
 
 /// A fixed set of worker threads for skinning jobs, started once and reused every frame (no
 /// thread creation or allocation per frame). run() cuts a job's range into parts of whole 16-vertex
-/// vectors, kPartsPerThread per thread but none but the last smaller than `min_part` vertices; the calling thread
-/// and the workers claim parts until none is left, and run() returns when the claimed parts are
-/// done. A worker that wakes late claims fewer parts, or none, and a job of at most `min_part`
-/// vertices runs on the calling thread alone, so a small job costs about its time on one thread and
-/// not that plus a worker's wake-up (docs/skinning.md, "Threads", has the measurements). The result
-/// does not depend on who runs a part. One run() at a time: calls from several threads need a lock
-/// of their own (the Python binding has one).
+/// vectors, at most kPartsPerThread per thread and none but the last smaller than `min_part`
+/// vertices; the calling thread and the workers claim parts until none is left, and run() returns
+/// when the claimed parts are done. A worker that wakes late claims fewer parts, or none, and a job
+/// of at most `min_part` vertices runs on the calling thread alone, so a small job costs about its
+/// time on one thread and not that plus a worker's wake-up (docs/skinning.md, "Threads", has the
+/// measurements). The result does not depend on who runs a part: workers take the caller's
+/// floating-point environment (rounding, flush-to-zero) for each job. One run() at a time: calls
+/// from several threads need a lock of their own (the Python binding has one).
 class SkinningThreads {
  public:
   /// The default `min_part`: on the machine of docs/skinning.md, handing a part to a worker costs
@@ -90,7 +92,7 @@ class SkinningThreads {
   static constexpr unsigned kSpinMicroseconds = 100;  ///< run() waits this long for workers before it sleeps
 
   /// `threads`: the total, the caller included (0 counts as 1). `min_part` is rounded up to a
-  /// multiple of 16 (0 counts as 16). Throws std::system_error, with no thread left running, when
+  /// multiple of 16 (0 counts as 16; the largest values, to the largest multiple). Throws std::system_error, with no thread left running, when
   /// the system cannot start one.
   explicit SkinningThreads(unsigned threads, std::size_t min_part = kDefaultMinPart);
   ~SkinningThreads();
@@ -104,7 +106,9 @@ class SkinningThreads {
  private:
   void work();
   void stop();                             ///< ends and joins the workers
-  void run_parts(const SkinningJob& job);  ///< claims parts of the current job until none is left
+  /// Claims parts of the current job until none is left. A part cannot fail once its job has
+  /// validated; noexcept, so that a bug would end the program rather than leave the job open.
+  void run_parts(const SkinningJob& job) noexcept;
   std::size_t min_part_;
   std::vector<std::thread> workers_;
   std::mutex mutex_;
@@ -112,6 +116,7 @@ class SkinningThreads {
   // Under mutex_: the job, whether workers may still join it (open_), and how many have.
   SkinningJob job_;
   std::size_t part_size_ = 0, parts_ = 0;
+  std::fenv_t env_{};  // the caller's floating-point environment, set by each worker that joins
   std::atomic<std::size_t> next_part_{0};  // claimed by fetch_add; reset only while no worker holds the job
   std::size_t generation_ = 0;
   std::atomic<unsigned> joined_{0};       // changed under mutex_; read without it while run() spins
