@@ -374,7 +374,8 @@ void SkinningJob::run() const {
 }
 
 namespace {
-std::size_t whole_vectors(std::size_t vertices) { return (vertices + 15) / 16 * 16; }  // rounded up to AVX-512's 16 lanes
+std::size_t divided_up(std::size_t n, std::size_t d) { return n / d + (n % d != 0); }  // ⌈n / d⌉, without overflow
+std::size_t whole_vectors(std::size_t vertices) { return divided_up(vertices, 16) * 16; }  // rounded up to AVX-512's 16 lanes
 
 void pause() noexcept {  // in a spin: lets the core's other thread run, and saves power
 #if defined(__x86_64__) || defined(__i386__)
@@ -417,7 +418,7 @@ Status SkinningThreads::run(const SkinningJob& job) {
   if (Status s = job.validate(); !s) return s;
   // Parts of whole 16-vertex vectors, at most kPartsPerThread per thread, none but the last smaller than min_part_.
   const std::size_t most_parts = std::size_t{size()} * kPartsPerThread;
-  const std::size_t part = std::max(min_part_, whole_vectors(job.count / most_parts + (job.count % most_parts != 0)));
+  const std::size_t part = std::max(min_part_, whole_vectors(divided_up(job.count, most_parts)));
   if (workers_.empty() || job.count <= part) {
     job.run();
     return {};
@@ -426,7 +427,7 @@ Status SkinningThreads::run(const SkinningJob& job) {
     std::lock_guard lock(mutex_);  // no worker holds a job here (the last run closed it with none joined)
     job_ = job;
     part_size_ = part;
-    parts_ = job.count / part + (job.count % part != 0);
+    parts_ = divided_up(job.count, part);
     std::fegetenv(&env_);  // rounding and flush-to-zero as the caller has them, for the workers too
     next_part_.store(0, std::memory_order_relaxed);
     open_ = true;
