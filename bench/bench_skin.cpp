@@ -4,7 +4,8 @@
 // structures) in the same binary, and STREAM's triad measured in the same run as the roof; and
 // DQS's bytes moved with no arithmetic (skin_streams), the most the memory allows its streams;
 // and each method on one thread with each instruction set the CPU has forced (dqkit_skinning_on_target);
-// and small DQS jobs on one and two threads (dqkit_skinning_small_jobs).
+// small DQS jobs on one and two threads (dqkit_skinning_small_jobs), and many jobs run one by one or
+// in one call (dqkit_skinning_many_jobs).
 //
 // The skin: at least 2^20 vertices and at least four times the last-level cache in bytes (read
 // from the CPU), 4 influences each, 64 bones with random rigid binds and poses. Every GLM variant
@@ -188,6 +189,29 @@ void dqkit_skinning_small_jobs(benchmark::State& state) {
   }
   state.counters["vertices_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()) * static_cast<double>(n), benchmark::Counter::kIsRate);
 }
+/// The skin's first 65,536 vertices (in cache) as `jobs` DQS jobs of equal size (the meshes of a
+/// model), on a pool of one and of two threads: one run() per job, or one run() for them all, whose
+/// parts the threads claim across the jobs (docs/skinning.md, "Threads").
+void dqkit_skinning_many_jobs(benchmark::State& state) {
+  Fixture& f = fixture();
+  const std::size_t n = std::min<std::size_t>(f.n, 65536), count = static_cast<std::size_t>(state.range(0));
+  Output out(n);
+  std::vector<SkinningJob> jobs;
+  for (std::size_t k = 0; k < count; ++k) jobs.push_back({&f.skin, &f.palette, SkinningMethod::dqs, out.view(), k * n / count, (k + 1) * n / count - k * n / count});
+  SkinningThreads pool(static_cast<unsigned>(state.range(1)));
+  const bool together = state.range(2) != 0;
+  for (auto _ : state) {
+    if (together) {
+      if (!pool.run(jobs)) state.SkipWithError("jobs do not validate");
+    } else {
+      for (const SkinningJob& job : jobs)
+        if (!pool.run(job)) state.SkipWithError("job does not validate");
+    }
+    benchmark::DoNotOptimize(out.c[0].data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["vertices_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()) * static_cast<double>(n), benchmark::Counter::kIsRate);
+}
 /// One thread with the instruction set forced (simd::ScopedTarget): what each target brings, in one
 /// run. Registered in main for every target this CPU has.
 void dqkit_skinning_on_target(benchmark::State& state, SkinningMethod method, simd::Target target) {
@@ -364,6 +388,7 @@ BENCHMARK(dq::bench::Triad)->Name("Triad")->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK_CAPTURE(dqkit_skinning, lbs, SkinningMethod::lbs)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK_CAPTURE(dqkit_skinning, dqs, SkinningMethod::dqs)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK_CAPTURE(dqkit_skinning, cor, SkinningMethod::cor)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK(dqkit_skinning_many_jobs)->Name("dqkit_skinning_many_jobs/dqs")->ArgNames({"jobs", "threads", "together"})->ArgsProduct({{4, 16, 64}, {1, 2}, {0, 1}})->UseRealTime();
 BENCHMARK(dqkit_skinning_small_jobs)->Name("dqkit_skinning_small_jobs/dqs")->ArgsProduct({{1024, 2048, 4096, 8192, 16384, 65536}, {1, 2}})->UseRealTime();
 BENCHMARK(skin_streams<StreamLayout::separate>)->Name("skin_streams/separate")->UseRealTime();
 BENCHMARK(skin_streams<StreamLayout::interleaved>)->Name("skin_streams/interleaved")->UseRealTime();

@@ -405,6 +405,98 @@ TEST(Skinning, ThreadsTakeTheCallersRoundingMode) {
   ASSERT_TRUE(holds_range(pooled, upward, 0, n, 0.0f));
 }
 
+// Several jobs in one call (the meshes of a model): two skins, the three methods, ranges from
+// empty to larger than a part, some vertices in no job. On 2 and 3 threads, with parts of 16
+// vertices and more and the default, 50 calls each: every job's vertices are its one-thread result
+// bit for bit, and nothing else is written.
+TEST(Skinning, ThreadsRunManyJobsAsOne) {
+  Random rng(11);
+  const std::size_t n[2] = {9000, 700};
+  const Skin skins[2] = {*build_skin(random_skin(rng, n[0], 11, 4)), *build_skin(random_skin(rng, n[1], 5, 3))};
+  std::vector<SkinPalette> palettes;
+  for (const Skin& skin : skins) {
+    palettes.emplace_back(skin.bone_count());
+    update_palette(skin, random_pose(rng, skin.bone_count()), palettes.back());
+  }
+  struct Range {
+    std::size_t skin, first, count;
+    SkinningMethod method;
+  };
+  const Range ranges[] = {{0, 0, 0, SkinningMethod::dqs},       {0, 0, 1, SkinningMethod::lbs},     {0, 1, 17, SkinningMethod::dqs},
+                          {1, 0, 300, SkinningMethod::cor},     {0, 40, 5000, SkinningMethod::dqs}, {0, 5040, 16, SkinningMethod::cor},
+                          {1, 300, 400, SkinningMethod::dqs},   {0, 6000, 3000, SkinningMethod::lbs}};  // vertices 18–39 and 5056–5999 of skin 0 in no job
+  const float fill = -std::numeric_limits<float>::quiet_NaN();
+  std::vector<Output> expected{Output(n[0]), Output(n[1])}, out{Output(n[0]), Output(n[1])};
+  for (Output& o : expected)
+    for (auto part : Output::parts) std::fill((o.*part).begin(), (o.*part).end(), fill);
+  std::vector<SkinningJob> jobs;
+  for (const Range& r : ranges) {
+    const SkinningJob job{&skins[r.skin], &palettes[r.skin], r.method, out[r.skin].view(true, false), r.first, r.count};
+    jobs.push_back(job);
+    Output alone(n[r.skin]);
+    ASSERT_TRUE(SkinningThreads(1).run({job.skin, job.palette, r.method, alone.view(true, false), r.first, r.count}).ok());
+    for (auto part : Output::parts)
+      std::copy_n((alone.*part).data() + r.first, r.count, (expected[r.skin].*part).data() + r.first);
+  }
+  for (Output& o : expected)
+    for (auto part : {&Output::tx, &Output::ty, &Output::tz}) std::fill((o.*part).begin(), (o.*part).end(), fill);
+  for (unsigned threads : {2u, 3u})
+    for (std::size_t min_part : {std::size_t{16}, SkinningThreads::kDefaultMinPart}) {
+      SkinningThreads pool(threads, min_part);
+      for (int call = 0; call < 50; ++call) {
+        SCOPED_TRACE(std::to_string(threads) + " threads, parts of " + std::to_string(min_part) + " and more, call " + std::to_string(call));
+        for (Output& o : out)
+          for (auto part : Output::parts) std::fill((o.*part).begin(), (o.*part).end(), fill);
+        const Status s = pool.run(jobs);
+        ASSERT_TRUE(s.ok()) << s.error().message;
+        for (std::size_t k = 0; k < 2; ++k) ASSERT_TRUE(holds_range(out[k], expected[k], 0, n[k], fill)) << "skin " << k;
+      }
+    }
+}
+
+// A call whose jobs write the same element, in one array or in two that alias, or with a job that
+// does not validate, is refused with the jobs named, and writes nothing. Ranges that touch are not
+// an overlap, and a call with no jobs does nothing.
+TEST(Skinning, ThreadsRefuseJobsThatWriteTheSameElements) {
+  Random rng(12);
+  const std::size_t n = 5000;
+  const Skin skin = *build_skin(random_skin(rng, n, 11, 4));
+  SkinPalette palette(skin.bone_count()), wrong(skin.bone_count() + 1);
+  update_palette(skin, random_pose(rng, 11), palette);
+  const float fill = -std::numeric_limits<float>::quiet_NaN();
+  Output out(n);
+  for (auto part : Output::parts) std::fill((out.*part).begin(), (out.*part).end(), fill);
+  const SkinnedVertices all = out.view(true, false);
+  SkinnedVertices aliased = all;  // its nx[v] is pz[v + 850]
+  aliased.nx = std::span<float>(out.pz).subspan(850);
+  SkinningThreads pool(2, 16);
+  const auto refused = [&](std::vector<SkinningJob> jobs, const std::string& message) {
+    const Status s = pool.run(jobs);
+    if (s.ok()) return ::testing::AssertionFailure() << "accepted";
+    if (s.error().message.find(message) == std::string::npos) return ::testing::AssertionFailure() << s.error().message;
+    for (auto part : Output::parts)
+      for (float x : out.*part)
+        if (!std::isnan(x)) return ::testing::AssertionFailure() << "refused, but wrote " << x;
+    return ::testing::AssertionSuccess();
+  };
+  EXPECT_TRUE(refused({{&skin, &palette, SkinningMethod::dqs, all, 0, 2000}, {&skin, &palette, SkinningMethod::dqs, all, 2000, 100},
+                       {&skin, &palette, SkinningMethod::lbs, all, 1999, 10}},
+                      "skinning jobs 0 and 2 write the same output elements"));
+  SkinnedVertices positions = all;
+  positions.nx = positions.ny = positions.nz = {};
+  EXPECT_TRUE(refused({{&skin, &palette, SkinningMethod::dqs, all, 0, 100}, {&skin, &palette, SkinningMethod::dqs, positions, 1000, 100},
+                       {&skin, &palette, SkinningMethod::dqs, aliased, 200, 100}},
+                      "skinning jobs 1 and 2 write the same output elements"));  // job 2's nx[200, 300) is pz[1050, 1150)
+  EXPECT_TRUE(refused({{&skin, &palette, SkinningMethod::dqs, all, 0, 100}, {&skin, &wrong, SkinningMethod::dqs, all, 100, 100}},
+                      "job 1: skinning job: the palette has 12 bones, the skin 11"));
+  EXPECT_TRUE(refused({{&skin, &palette, SkinningMethod::dqs, all, 0, 100}, {&skin, &palette, SkinningMethod::dqs, all, 0, 100}},
+                      "skinning jobs 0 and 1 write the same output elements"));
+  EXPECT_TRUE(pool.run(std::span<const SkinningJob>{}).ok());
+  const std::vector<SkinningJob> touching{{&skin, &palette, SkinningMethod::dqs, all, 2500, n - 2500}, {&skin, &palette, SkinningMethod::dqs, all, 0, 2500}};
+  ASSERT_TRUE(pool.run(touching).ok());
+  for (float x : out.px) ASSERT_FALSE(std::isnan(x));
+}
+
 TEST(Skinning, TangentsRotateWithTheBone) {
   const Skin skin = *build_skin(two_bone_cylinder());
   ASSERT_TRUE(skin.has_tangents());
@@ -868,6 +960,7 @@ TEST(SkinningFiles, AFrameAllocatesNothing) {
   SkinningThreads threads(2);
   std::vector<DualQuaternion<double>> world;
   ASSERT_TRUE(pose_at(scene, 0, 0, world).ok());  // sizes `world`
+  ASSERT_TRUE(skins->skin(world, SkinningMethod::dqs, threads, frame).ok());  // sizes the pool's list of outputs
   allocations = 0;
   counting = true;
   for (int f = 0; f < 20; ++f)

@@ -48,6 +48,7 @@ Expected<SceneSkin> SceneSkin::build(const ImportedScene& scene, const SkinOptio
     for (std::uint32_t t : mesh.indices) out.triangles_.push_back(static_cast<std::uint32_t>(out.vertex_count_ + t));
     out.palettes_.emplace_back(bone_joints.size());
     out.bone_world_.emplace_back(bone_joints.size());
+    out.jobs_.emplace_back();
     out.parts_.push_back({std::move(*skin), std::move(bone_joints), out.vertex_count_, mesh.name});
     out.vertex_count_ += mesh.positions.size();
   }
@@ -81,16 +82,16 @@ Status SceneSkin::skin(std::span<const DualQuaternion<double>> joint_world, Skin
     const Part& part = parts_[i];
     for (std::size_t b = 0; b < part.bone_joints.size(); ++b) bone_world_[i][b] = joint_world[part.bone_joints[b]];
     update_palette(part.skin, bone_world_[i], palettes_[i]);
-    SkinningJob job{&part.skin, &palettes_[i], method, {}, part.first_vertex, 0};
     // The job indexes the skin's vertices from 0: hand it the part's window of the frame.
     const std::size_t n = part.skin.vertex_count();
     auto window = [&](std::vector<float>& a) { return a.empty() ? std::span<float>{} : std::span<float>(a).subspan(part.first_vertex, n); };
-    job.out = {window(frame.px), window(frame.py), window(frame.pz), window(frame.nx), window(frame.ny), window(frame.nz), window(frame.tx), window(frame.ty), window(frame.tz)};
-    job.first = 0;
-    job.count = n;
-    if (Status s = threads.run(job); !s) return Error{"mesh '" + part.name + "': " + s.error().message};
+    jobs_[i] = {&part.skin, &palettes_[i], method,
+                {window(frame.px), window(frame.py), window(frame.pz), window(frame.nx), window(frame.ny), window(frame.nz),
+                 window(frame.tx), window(frame.ty), window(frame.tz)},
+                0, n};
+    if (Status s = jobs_[i].validate(); !s) return Error{"mesh '" + part.name + "': " + s.error().message};
   }
-  return {};
+  return threads.run(jobs_);  // the windows of one frame do not overlap
 }
 
 Status pose_at(const ImportedScene& scene, std::size_t animation, double time, std::vector<DualQuaternion<double>>& joint_world) {

@@ -405,38 +405,65 @@ void SkinningThreads::stop() {
   for (auto& t : workers_) t.join();
 }
 
-void SkinningThreads::run_parts(const SkinningJob& job) noexcept {
+void SkinningThreads::run_parts() noexcept {
+  // Parts are numbered job after job, and a thread claims increasing numbers: it finds a part's job
+  // by moving on from the job of its last part.
+  std::size_t k = 0, before = 0;  // the job, and the number of parts of the jobs before it
   for (std::size_t i; (i = next_part_.fetch_add(1, std::memory_order_relaxed)) < parts_;) {
-    SkinningJob part = job;
-    part.first = job.first + i * part_size_;
-    part.count = std::min(part_size_, job.count - i * part_size_);
+    for (std::size_t n; i - before >= (n = divided_up(jobs_[k].count, part_size_)); ++k) before += n;
+    SkinningJob part = jobs_[k];
+    const std::size_t offset = (i - before) * part_size_;
+    part.first += offset;
+    part.count = std::min(part_size_, jobs_[k].count - offset);
     part.run();
   }
 }
 
-Status SkinningThreads::run(const SkinningJob& job) {
-  if (Status s = job.validate(); !s) return s;
-  // Parts of whole 16-vertex vectors, at most kPartsPerThread per thread, none but the last smaller than min_part_.
+Status SkinningThreads::run(std::span<const SkinningJob> jobs) {
+  const auto named = [&](std::size_t k) { return jobs.size() == 1 ? std::string() : "job " + std::to_string(k) + ": "; };
+  for (std::size_t k = 0; k < jobs.size(); ++k)
+    if (Status s = jobs[k].validate(); !s) return Error{named(k) + s.error().message};
+  if (jobs.size() > 1) {
+    // Two parts of different jobs could run at once: no element may be written by two jobs.
+    written_.clear();
+    for (std::size_t k = 0; k < jobs.size(); ++k) {
+      const SkinnedVertices& o = jobs[k].out;
+      for (std::span<float> a : {o.px, o.py, o.pz, o.nx, o.ny, o.nz, o.tx, o.ty, o.tz})
+        if (!a.empty() && jobs[k].count != 0) {
+          const auto begin = reinterpret_cast<std::uintptr_t>(a.data() + jobs[k].first);
+          written_.push_back({begin, begin + jobs[k].count * sizeof(float), k});
+        }
+    }
+    std::sort(written_.begin(), written_.end(), [](const Written& x, const Written& y) { return x.begin < y.begin; });
+    for (std::size_t i = 1; i < written_.size(); ++i)
+      if (written_[i].begin < written_[i - 1].end)
+        return Error{"skinning jobs " + std::to_string(std::min(written_[i - 1].job, written_[i].job)) + " and " +
+                     std::to_string(std::max(written_[i - 1].job, written_[i].job)) + " write the same output elements"};
+  }
+  std::size_t total = 0;  // no overflow: the jobs write this many distinct floats
+  for (const SkinningJob& job : jobs) total += job.count;
+  // Parts of whole 16-vertex vectors, at most kPartsPerThread per thread, none but a job's last smaller than min_part_.
   const std::size_t most_parts = std::size_t{size()} * kPartsPerThread;
-  const std::size_t part = std::max(min_part_, whole_vectors(divided_up(job.count, most_parts)));
-  if (workers_.empty() || job.count <= part) {
-    job.run();
+  const std::size_t part = std::max(min_part_, whole_vectors(divided_up(total, most_parts)));
+  if (workers_.empty() || total <= part) {
+    for (const SkinningJob& job : jobs) job.run();
     return {};
   }
   {
-    std::lock_guard lock(mutex_);  // no worker holds a job here (the last run closed it with none joined)
-    job_ = job;
+    std::lock_guard lock(mutex_);  // no worker holds a call here (the last run closed it with none joined)
+    jobs_ = jobs;
     part_size_ = part;
-    parts_ = divided_up(job.count, part);
+    parts_ = 0;
+    for (const SkinningJob& job : jobs) parts_ += divided_up(job.count, part);
     std::fegetenv(&env_);  // rounding and flush-to-zero as the caller has them, for the workers too
     next_part_.store(0, std::memory_order_relaxed);
     open_ = true;
     ++generation_;
   }
   start_.notify_all();
-  run_parts(job);
-  // Every part is claimed; wait for the workers that joined, and close the job to the others. Their
-  // parts are short, so spin first: a sleep here would add a wake-up (tens of microseconds) to the job.
+  run_parts();
+  // Every part is claimed; wait for the workers that joined, and close the call to the others. Their
+  // parts are short, so spin first: a sleep here would add a wake-up (tens of microseconds) to the call.
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::microseconds(kSpinMicroseconds);
   for (unsigned i = 0; joined_.load() != 0 && (++i % 64 != 0 || std::chrono::steady_clock::now() < give_up);) pause();
   std::unique_lock lock(mutex_);
@@ -456,7 +483,7 @@ void SkinningThreads::work() {
       ++joined_;
       std::fesetenv(&env_);
     }
-    run_parts(job_);  // job_ does not change while a worker has joined
+    run_parts();  // jobs_ does not change while a worker has joined
     {
       std::lock_guard lock(mutex_);
       --joined_;

@@ -53,8 +53,10 @@ class SceneSkin {
 
   /// A frame sized for this scene (triangles filled in); skin() then only writes into it.
   SkinnedFrame make_frame() const;
-  /// Skins every mesh with the skeleton's model (world) transforms `joint_world`, one per joint.
-  /// Preconditions: sizes match and the frame comes from make_frame(). No allocation.
+  /// Skins every mesh with the skeleton's model (world) transforms `joint_world`, one per joint:
+  /// one call of `threads` for all the meshes, so that the threads share small meshes too.
+  /// Preconditions: sizes match and the frame comes from make_frame(). No allocation but the
+  /// pool's list of outputs, the first time it skins this many meshes (SkinningThreads::run).
   Status skin(std::span<const DualQuaternion<double>> joint_world, SkinningMethod method, SkinningThreads& threads,
               SkinnedFrame& frame);
 
@@ -62,6 +64,7 @@ class SceneSkin {
   std::vector<Part> parts_;
   std::vector<SkinPalette> palettes_;
   std::vector<std::vector<DualQuaternion<double>>> bone_world_;
+  std::vector<SkinningJob> jobs_;  // one per part, refilled by each skin()
   std::vector<std::uint32_t> triangles_;
   std::size_t vertex_count_ = 0, joint_count_ = 0;
   bool normals_ = false, tangents_ = false;

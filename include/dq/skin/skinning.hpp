@@ -4,7 +4,8 @@
 //
 // Per frame: update_palette turns the bones' rigid world transforms into the palette (one 3x4
 // matrix and one dual quaternion per bone, float); a SkinningJob then skins a vertex range. Jobs
-// allocate nothing; SkinningThreads keeps its threads between frames, so a frame allocates nothing.
+// allocate nothing; SkinningThreads keeps its threads between frames, so a frame allocates nothing
+// (but for a call with several jobs, the first time it has that many: SkinningThreads::run).
 //
 // The kernels run on vectors of 4, 8 or 16 vertices (SSE2, SSE4.2, AVX2, AVX-512), the instruction set
 // chosen at run time from the CPU by dqkit::simd (dq::simd::current_target; dq::simd::use_target
@@ -20,6 +21,7 @@
 #include <cfenv>
 #include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <mutex>
 #include <span>
 #include <thread>
@@ -74,15 +76,17 @@ struct SkinningJob {
 };
 
 /// A fixed set of worker threads for skinning jobs, started once and reused every frame (no
-/// thread creation or allocation per frame). run() cuts a job's range into parts of whole 16-vertex
-/// vectors, at most kPartsPerThread per thread and none but the last smaller than `min_part`
-/// vertices; the calling thread and the workers claim parts until none is left, and run() returns
-/// when the claimed parts are done. A worker that wakes late claims fewer parts, or none, and a job
-/// of at most `min_part` vertices runs on the calling thread alone, so a small job costs about its
-/// time on one thread and not that plus a worker's wake-up (docs/skinning.md, "Threads", has the
-/// measurements). The result does not depend on who runs a part: workers take the caller's
-/// floating-point environment (rounding, flush-to-zero) for each job. One run() at a time: calls
-/// from several threads need a lock of their own (the Python binding has one).
+/// thread creation per frame). run() cuts each job's range into parts of whole 16-vertex vectors,
+/// at most kPartsPerThread per thread over all the jobs of a call and none but a job's last smaller
+/// than `min_part` vertices; the calling thread and the workers claim parts until none is left, and
+/// run() returns when the claimed parts are done. A worker that wakes late claims fewer parts, or
+/// none, and a call of at most `min_part` vertices in all runs on the calling thread alone, so a
+/// small call costs about its time on one thread and not that plus a worker's wake-up
+/// (docs/skinning.md, "Threads", has the measurements). Several jobs in one call (the meshes of a
+/// model) share the threads as one job would: small meshes need not each run alone. The result
+/// does not depend on who runs a part: workers take the caller's floating-point environment
+/// (rounding, flush-to-zero) for each call. One run() at a time: calls from several threads need a
+/// lock of their own (the Python binding has one).
 class SkinningThreads {
  public:
   /// The default `min_part`: on the machine of docs/skinning.md, handing a part to a worker costs
@@ -101,23 +105,33 @@ class SkinningThreads {
   unsigned size() const noexcept { return static_cast<unsigned>(workers_.size()) + 1; }
   std::size_t min_part() const noexcept { return min_part_; }
   /// Validates, then runs the job on the calling thread and the workers.
-  Status run(const SkinningJob& job);
+  Status run(const SkinningJob& job) { return run(std::span<const SkinningJob>(&job, 1)); }
+  /// Validates every job, and that no two jobs write the same element; then runs them all, their
+  /// parts claimed across the jobs. Nothing is written when a job is refused (the error names it).
+  /// Allocates only when a call has more jobs than every call before it on this pool (a list of
+  /// the outputs, sorted to find overlaps).
+  Status run(std::span<const SkinningJob> jobs);
 
  private:
   void work();
   void stop();                             ///< ends and joins the workers
-  /// Claims parts of the current job until none is left. A part cannot fail once its job has
-  /// validated; noexcept, so that a bug would end the program rather than leave the job open.
-  void run_parts(const SkinningJob& job) noexcept;
+  /// Claims parts of the current call's jobs until none is left. A part cannot fail once its job
+  /// has validated; noexcept, so that a bug would end the program rather than leave the call open.
+  void run_parts() noexcept;
   std::size_t min_part_;
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable start_, done_;
-  // Under mutex_: the job, whether workers may still join it (open_), and how many have.
-  SkinningJob job_;
-  std::size_t part_size_ = 0, parts_ = 0;
+  // Under mutex_: the call's jobs, whether workers may still join it (open_), and how many have.
+  std::span<const SkinningJob> jobs_;
+  std::size_t part_size_ = 0, parts_ = 0;  // parts_: over all jobs, each job's parts after the last job's
+  struct Written {
+    std::uintptr_t begin, end;  // an output range [begin, end), in bytes
+    std::size_t job;
+  };
+  std::vector<Written> written_;  // run()'s scratch: every job's output ranges, sorted
   std::fenv_t env_{};  // the caller's floating-point environment, set by each worker that joins
-  std::atomic<std::size_t> next_part_{0};  // claimed by fetch_add; reset only while no worker holds the job
+  std::atomic<std::size_t> next_part_{0};  // claimed by fetch_add; reset only while no worker holds a call
   std::size_t generation_ = 0;
   std::atomic<unsigned> joined_{0};       // changed under mutex_; read without it while run() spins
   bool open_ = false, stop_ = false;
