@@ -407,8 +407,9 @@ TEST(Skinning, ThreadsTakeTheCallersRoundingMode) {
 
 // Several jobs in one call (the meshes of a model): two skins, the three methods, ranges from
 // empty to larger than a part, some vertices in no job. On 2 and 3 threads, with parts of 16
-// vertices and more and the default, 50 calls each: every job's vertices are its one-thread result
-// bit for bit, and nothing else is written.
+// vertices and more and the default, 50 calls each, and on the calling thread alone (one thread, or
+// parts larger than all the jobs): every job's vertices are its one-thread result bit for bit, and
+// nothing else is written.
 TEST(Skinning, ThreadsRunManyJobsAsOne) {
   Random rng(11);
   const std::size_t n[2] = {9000, 700};
@@ -440,8 +441,8 @@ TEST(Skinning, ThreadsRunManyJobsAsOne) {
   }
   for (Output& o : expected)
     for (auto part : {&Output::tx, &Output::ty, &Output::tz}) std::fill((o.*part).begin(), (o.*part).end(), fill);
-  for (unsigned threads : {2u, 3u})
-    for (std::size_t min_part : {std::size_t{16}, SkinningThreads::kDefaultMinPart}) {
+  for (unsigned threads : {1u, 2u, 3u})
+    for (std::size_t min_part : {std::size_t{16}, SkinningThreads::kDefaultMinPart, std::size_t{16384}}) {
       SkinningThreads pool(threads, min_part);
       for (int call = 0; call < 50; ++call) {
         SCOPED_TRACE(std::to_string(threads) + " threads, parts of " + std::to_string(min_part) + " and more, call " + std::to_string(call));
@@ -488,7 +489,7 @@ TEST(Skinning, ThreadsRefuseJobsThatWriteTheSameElements) {
                        {&skin, &palette, SkinningMethod::dqs, aliased, 200, 100}},
                       "skinning jobs 1 and 2 write the same output elements"));  // job 2's nx[200, 300) is pz[1050, 1150)
   EXPECT_TRUE(refused({{&skin, &palette, SkinningMethod::dqs, all, 0, 100}, {&skin, &wrong, SkinningMethod::dqs, all, 100, 100}},
-                      "job 1: skinning job: the palette has 12 bones, the skin 11"));
+                      "skinning job 1: the palette has 12 bones, the skin 11"));
   EXPECT_TRUE(refused({{&skin, &palette, SkinningMethod::dqs, all, 0, 100}, {&skin, &palette, SkinningMethod::dqs, all, 0, 100}},
                       "skinning jobs 0 and 1 write the same output elements"));
   EXPECT_TRUE(pool.run(std::span<const SkinningJob>{}).ok());
@@ -957,7 +958,7 @@ TEST(SkinningFiles, AFrameAllocatesNothing) {
   Expected<SceneSkin> skins = SceneSkin::build(scene);
   ASSERT_TRUE(skins.has_value());
   SkinnedFrame frame = skins->make_frame();
-  SkinningThreads threads(2);
+  SkinningThreads threads(2, 16);  // parts of 16 vertices and more: the meshes are split over the threads
   std::vector<DualQuaternion<double>> world;
   ASSERT_TRUE(pose_at(scene, 0, 0, world).ok());  // sizes `world`
   ASSERT_TRUE(skins->skin(world, SkinningMethod::dqs, threads, frame).ok());  // sizes the pool's list of outputs

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <string>
 
 #include "dq/convert/matrix.hpp"
 #include "dq/simd/batch.hpp"
@@ -420,12 +421,17 @@ void SkinningThreads::run_parts() noexcept {
 }
 
 Status SkinningThreads::run(std::span<const SkinningJob> jobs) {
-  const auto named = [&](std::size_t k) { return jobs.size() == 1 ? std::string() : "job " + std::to_string(k) + ": "; };
   for (std::size_t k = 0; k < jobs.size(); ++k)
-    if (Status s = jobs[k].validate(); !s) return Error{named(k) + s.error().message};
+    if (Status s = jobs[k].validate(); !s) {
+      // validate() says "skinning job: …"; with several jobs, say which.
+      const std::string said = s.error().message, prefix = "skinning job";
+      if (jobs.size() == 1 || !said.starts_with(prefix)) return s;
+      return Error{prefix + " " + std::to_string(k) + said.substr(prefix.size())};
+    }
   if (jobs.size() > 1) {
     // Two parts of different jobs could run at once: no element may be written by two jobs.
     written_.clear();
+    written_.reserve(9 * jobs.size());  // so that it grows only with the number of jobs
     for (std::size_t k = 0; k < jobs.size(); ++k) {
       const SkinnedVertices& o = jobs[k].out;
       for (std::span<float> a : {o.px, o.py, o.pz, o.nx, o.ny, o.nz, o.tx, o.ty, o.tz})
@@ -442,7 +448,8 @@ Status SkinningThreads::run(std::span<const SkinningJob> jobs) {
   }
   std::size_t total = 0;  // no overflow: the jobs write this many distinct floats
   for (const SkinningJob& job : jobs) total += job.count;
-  // Parts of whole 16-vertex vectors, at most kPartsPerThread per thread, none but a job's last smaller than min_part_.
+  // Parts of whole 16-vertex vectors, about kPartsPerThread per thread (plus at most one per job),
+  // none but a job's last smaller than min_part_.
   const std::size_t most_parts = std::size_t{size()} * kPartsPerThread;
   const std::size_t part = std::max(min_part_, whole_vectors(divided_up(total, most_parts)));
   if (workers_.empty() || total <= part) {
@@ -469,6 +476,7 @@ Status SkinningThreads::run(std::span<const SkinningJob> jobs) {
   std::unique_lock lock(mutex_);
   done_.wait(lock, [this] { return joined_ == 0; });
   open_ = false;
+  jobs_ = {};  // the caller's jobs, which may not outlive this call
   return {};
 }
 

@@ -77,8 +77,8 @@ struct SkinningJob {
 
 /// A fixed set of worker threads for skinning jobs, started once and reused every frame (no
 /// thread creation per frame). run() cuts each job's range into parts of whole 16-vertex vectors,
-/// at most kPartsPerThread per thread over all the jobs of a call and none but a job's last smaller
-/// than `min_part` vertices; the calling thread and the workers claim parts until none is left, and
+/// of one size for all the jobs of a call: about kPartsPerThread per thread, plus at most one per
+/// job (a job's last part, which may be smaller), and none smaller than `min_part` vertices but those; the calling thread and the workers claim parts until none is left, and
 /// run() returns when the claimed parts are done. A worker that wakes late claims fewer parts, or
 /// none, and a call of at most `min_part` vertices in all runs on the calling thread alone, so a
 /// small call costs about its time on one thread and not that plus a worker's wake-up
@@ -108,8 +108,10 @@ class SkinningThreads {
   Status run(const SkinningJob& job) { return run(std::span<const SkinningJob>(&job, 1)); }
   /// Validates every job, and that no two jobs write the same element; then runs them all, their
   /// parts claimed across the jobs. Nothing is written when a job is refused (the error names it).
-  /// Allocates only when a call has more jobs than every call before it on this pool (a list of
-  /// the outputs, sorted to find overlaps).
+  /// Inputs are not checked against outputs (a job must not write into a skin or palette it or
+  /// another job reads). Allocates (and so may throw std::bad_alloc) only when a call has more jobs
+  /// than every call before it on this pool: room for nine output ranges per job, sorted to find
+  /// overlaps.
   Status run(std::span<const SkinningJob> jobs);
 
  private:
