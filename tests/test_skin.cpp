@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <thread>
 #include <cstdlib>
 #include <new>
 #include <cfenv>
@@ -357,7 +359,8 @@ TEST(Skinning, ThreadsClaimPartsOfEveryCount) {
 
 // Jobs back to back on one pool, alternating between two outputs, two palettes and two ranges,
 // each output reset before its job: a worker that wakes late must not run a part of one job with
-// another's data, nor leave a part undone.
+// another's data, nor leave a part undone. Every tenth job comes after a pause longer than the
+// workers' spin, so that they sleep and are woken, as between frames.
 TEST(Skinning, ThreadsRunJobsBackToBack) {
   Random rng(9);
   const std::size_t n = 2000, first[2] = {0, 7}, count[2] = {n, n - 300};
@@ -375,6 +378,7 @@ TEST(Skinning, ThreadsRunJobsBackToBack) {
   SkinningThreads pool(3, 16);
   for (std::size_t i = 0; i < 400; ++i) {
     const std::size_t k = i % 2;
+    if (i % 10 == 0) std::this_thread::sleep_for(std::chrono::microseconds(3 * SkinningThreads::kSpinMicroseconds));
     for (auto part : Output::parts) std::fill((out[k].*part).begin(), (out[k].*part).end(), fill);
     ASSERT_TRUE(pool.run({&skin, &palettes[k], SkinningMethod::dqs, out[k].view(true, false), first[k], count[k]}).ok());
     ASSERT_TRUE(holds_range(out[k], reference[k], first[k], count[k], fill)) << "job " << i;

@@ -82,7 +82,9 @@ struct SkinningJob {
 /// run() returns when the claimed parts are done. A worker that wakes late claims fewer parts, or
 /// none, and a call of at most `min_part` vertices in all runs on the calling thread alone, so a
 /// small call costs about its time on one thread and not that plus a worker's wake-up
-/// (docs/skinning.md, "Threads", has the measurements). Several jobs in one call (the meshes of a
+/// (docs/skinning.md, "Threads", has the measurements). After a call, workers spin for up to
+/// kSpinMicroseconds before they sleep, so that calls back to back need no wake-up; a pool between
+/// frames sleeps. Several jobs in one call (the meshes of a
 /// model) share the threads as one job would: small meshes need not each run alone. The result
 /// does not depend on who runs a part: workers take the caller's floating-point environment
 /// (rounding, flush-to-zero) for each call. One run() at a time: calls from several threads need a
@@ -93,7 +95,9 @@ class SkinningThreads {
   /// a few microseconds, and 4096 vertices take about ten in cache.
   static constexpr std::size_t kDefaultMinPart = 4096;
   static constexpr unsigned kPartsPerThread = 4;
-  static constexpr unsigned kSpinMicroseconds = 100;  ///< run() waits this long for workers before it sleeps
+  /// run() spins this long for the workers that joined a call before it sleeps; a worker, this
+  /// long for the next call.
+  static constexpr unsigned kSpinMicroseconds = 100;
 
   /// `threads`: the total, the caller included (0 counts as 1). `min_part` is rounded up to a
   /// multiple of 16 (0 counts as 16; the largest values, to the largest multiple). Throws std::system_error, with no thread left running, when
@@ -134,7 +138,7 @@ class SkinningThreads {
   std::vector<Written> written_;  // run()'s scratch: every job's output ranges, sorted
   std::fenv_t env_{};  // the caller's floating-point environment, set by each worker that joins
   std::atomic<std::size_t> next_part_{0};  // claimed by fetch_add; reset only while no worker holds a call
-  std::size_t generation_ = 0;
+  std::atomic<std::size_t> generation_{0};  // changed under mutex_; read without it while a worker spins
   std::atomic<unsigned> joined_{0};       // changed under mutex_; read without it while run() spins
   bool open_ = false, stop_ = false;
 };
