@@ -14,6 +14,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <sched.h>
 #include <functional>
 #include <limits>
 #include <numeric>
@@ -360,7 +361,8 @@ TEST(Skinning, ThreadsClaimPartsOfEveryCount) {
 // Jobs back to back on one pool, alternating between two outputs, two palettes and two ranges,
 // each output reset before its job: a worker that wakes late must not run a part of one job with
 // another's data, nor leave a part undone. Every tenth job comes after a pause longer than the
-// workers' spin, so that they sleep and are woken, as between frames.
+// workers' spin, so that they sleep and are woken, as between frames; and once more with workers
+// that sleep as soon as their parts are done.
 TEST(Skinning, ThreadsRunJobsBackToBack) {
   Random rng(9);
   const std::size_t n = 2000, first[2] = {0, 7}, count[2] = {n, n - 300};
@@ -375,14 +377,42 @@ TEST(Skinning, ThreadsRunJobsBackToBack) {
     ASSERT_TRUE(SkinningThreads(1).run({&skin, &palettes[k], SkinningMethod::dqs, reference[k].view(true, false), 0, n}).ok());
   }
   const float fill = -std::numeric_limits<float>::quiet_NaN();
-  SkinningThreads pool(3, 16);
-  for (std::size_t i = 0; i < 400; ++i) {
-    const std::size_t k = i % 2;
-    if (i % 10 == 0) std::this_thread::sleep_for(std::chrono::microseconds(3 * SkinningThreads::kSpinMicroseconds));
-    for (auto part : Output::parts) std::fill((out[k].*part).begin(), (out[k].*part).end(), fill);
-    ASSERT_TRUE(pool.run({&skin, &palettes[k], SkinningMethod::dqs, out[k].view(true, false), first[k], count[k]}).ok());
-    ASSERT_TRUE(holds_range(out[k], reference[k], first[k], count[k], fill)) << "job " << i;
+  for (unsigned spin : {SkinningThreads::kWorkerSpinMicroseconds, 0u}) {  // workers that spin between calls, and that do not
+    SkinningThreads pool(3, 16, spin);
+    ASSERT_EQ(pool.worker_spin_microseconds(), spin);
+    for (std::size_t i = 0; i < 400; ++i) {
+      const std::size_t k = i % 2;
+      if (i % 10 == 0) std::this_thread::sleep_for(std::chrono::microseconds(3 * SkinningThreads::kWorkerSpinMicroseconds));
+      for (auto part : Output::parts) std::fill((out[k].*part).begin(), (out[k].*part).end(), fill);
+      ASSERT_TRUE(pool.run({&skin, &palettes[k], SkinningMethod::dqs, out[k].view(true, false), first[k], count[k]}).ok());
+      ASSERT_TRUE(holds_range(out[k], reference[k], first[k], count[k], fill)) << "job " << i << ", workers spinning " << spin << " us";
+    }
   }
+}
+
+// By default workers spin only where the pool has a CPU per thread, by the affinity mask; a spin
+// asked for is kept. With the mask cut to one CPU (this thread's, which the workers inherit), a
+// pool of two no longer spins.
+TEST(Skinning, ThreadsSpinOnlyWhereEveryThreadHasACpu) {
+  cpu_set_t all;
+  ASSERT_EQ(sched_getaffinity(0, sizeof all, &all), 0);
+  const unsigned cpus = static_cast<unsigned>(CPU_COUNT(&all));
+  EXPECT_EQ(SkinningThreads(1).worker_spin_microseconds(), SkinningThreads::kWorkerSpinMicroseconds);
+  EXPECT_EQ(SkinningThreads(cpus).worker_spin_microseconds(), SkinningThreads::kWorkerSpinMicroseconds);
+  EXPECT_EQ(SkinningThreads(cpus + 1).worker_spin_microseconds(), 0u);
+  EXPECT_EQ(SkinningThreads(cpus + 1, 16, 7).worker_spin_microseconds(), 7u);
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  for (std::size_t c = 0; c < std::size_t{CPU_SETSIZE}; ++c)
+    if (CPU_ISSET(c, &all)) {
+      CPU_SET(c, &one);
+      break;
+    }
+  ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
+  const unsigned one_cpu_two = SkinningThreads(2).worker_spin_microseconds(), one_cpu_one = SkinningThreads(1).worker_spin_microseconds();
+  ASSERT_EQ(sched_setaffinity(0, sizeof all, &all), 0);
+  EXPECT_EQ(one_cpu_two, 0u);
+  EXPECT_EQ(one_cpu_one, SkinningThreads::kWorkerSpinMicroseconds);
 }
 
 // Workers take the caller's floating-point environment for each job: with the caller rounding

@@ -1094,13 +1094,15 @@ Members:
 
 
 class SkinningThreads:
-    """Threads for skinning, started once and kept for every call given this pool; one call at a time. A call cuts its vertices into parts that the threads claim, of min_part vertices or more but the last, so a call of at most min_part vertices runs on the calling thread alone."""
-    def __init__(self: SkinningThreads, threads: int, min_part: int = ...) -> None:
-        """threads: the total, the calling thread included (at most 1024); 0: every hardware thread. min_part: the fewest vertices in a part but the last, rounded up to a multiple of 16."""
+    """Threads for skinning, started once and kept for every call given this pool; one call at a time. A call cuts its vertices into parts that the threads claim, of min_part vertices or more but the last, so a call of at most min_part vertices runs on the calling thread alone. A worker watches for the next call for spin_microseconds before it sleeps."""
+    def __init__(self: SkinningThreads, threads: int, min_part: int = ..., spin_microseconds: Optional[int] = ...) -> None:
+        """threads: the total, the calling thread included (at most 1024); 0: every hardware thread. min_part: the fewest vertices in a part but the last, rounded up to a multiple of 16. spin_microseconds: how long a worker watches for the next call, using its core, before it sleeps (at most one second); None: 100 if the process may run on as many CPUs as the pool has threads, else 0."""
     @property
     def size(self) -> int: """Threads, the calling thread included."""
     @property
     def min_part(self) -> int: """The fewest vertices in a part but the last (a multiple of 16)."""
+    @property
+    def spin_microseconds(self) -> int: """How long a worker watches for the next call before it sleeps."""
     def __repr__(self: SkinningThreads) -> str: ...
 
 

@@ -35,6 +35,8 @@ std::span<double> inout_vector(py::array& a, std::size_t n, const char* name) {
   return {static_cast<double*>(a.mutable_data()), n};
 }
 
+/// A worker's longest spin that Python may ask for: more is most likely seconds taken for microseconds.
+constexpr std::size_t kMaxSpinMicroseconds = 1'000'000;
 /// The most threads a Python SkinningThreads starts: each is a system thread, started at once.
 constexpr unsigned kMaxPoolThreads = 1024;
 
@@ -56,7 +58,8 @@ unsigned long forks_so_far() {
 /// the pool refuses to run, and is left undestroyed (joining threads that are not there would hang).
 class SkinningPool {
  public:
-  SkinningPool(unsigned threads, std::size_t min_part) : pool_(std::make_unique<dq::SkinningThreads>(threads, min_part)) {}
+  SkinningPool(unsigned threads, std::size_t min_part, unsigned spin)
+      : pool_(std::make_unique<dq::SkinningThreads>(threads, min_part, spin)) {}
   ~SkinningPool() {
     if (forked()) (void)pool_.release();
   }
@@ -64,6 +67,7 @@ class SkinningPool {
   SkinningPool& operator=(const SkinningPool&) = delete;
   unsigned size() const noexcept { return pool_->size(); }
   std::size_t min_part() const noexcept { return pool_->min_part(); }
+  unsigned spin_microseconds() const noexcept { return pool_->worker_spin_microseconds(); }
   /// f(pool) while no other call runs on the pool. The caller has released the GIL, or holds it
   /// (SceneSkin.skin): a caller that holds `busy_` never waits for the GIL, so neither can deadlock.
   template <class F>
@@ -283,24 +287,33 @@ void bind_skin_types(py::module_& m) {
   py::class_<SkinningPool>(m, "SkinningThreads",
                            "Threads for skinning, started once and kept for every call given this pool; one call at a time. "
                            "A call cuts its vertices into parts that the threads claim, of min_part vertices or more but the last, "
-                           "so a call of at most min_part vertices runs on the calling thread alone.")
-      .def(py::init([](const IntegerArg& threads, const IntegerArg& min_part_obj) {
+                           "so a call of at most min_part vertices runs on the calling thread alone. A worker watches for the "
+                           "next call for spin_microseconds before it sleeps.")
+      .def(py::init([](const IntegerArg& threads, const IntegerArg& min_part_obj, const std::optional<IntegerArg>& spin_obj) {
              const std::size_t min_part = size_count(min_part_obj, "min_part");
+             const std::size_t spin = spin_obj ? size_count(*spin_obj, "spin_microseconds") : dq::SkinningThreads::kAutomaticWorkerSpin;
+             if (spin_obj && spin > kMaxSpinMicroseconds)
+               throw py::value_error("spin_microseconds: expected at most " + std::to_string(kMaxSpinMicroseconds) + " (one second), got " + std::to_string(spin));
              const unsigned n = thread_count(threads, kMaxPoolThreads);
              const unsigned total = n == 0 ? std::clamp(std::thread::hardware_concurrency(), 1u, kMaxPoolThreads) : n;
              try {
-               return std::make_unique<SkinningPool>(total, min_part);
+               return std::make_unique<SkinningPool>(total, min_part, static_cast<unsigned>(spin));
              } catch (const std::system_error& e) {
                throw std::runtime_error("SkinningThreads(" + std::to_string(total) + "): could not start a thread: " + e.what());
              }
            }),
            py::arg("threads"), py::arg("min_part") = IntegerArg{py::int_(dq::SkinningThreads::kDefaultMinPart)},
+           py::arg("spin_microseconds") = py::none(),
            "threads: the total, the calling thread included (at most 1024); 0: every hardware thread. "
-           "min_part: the fewest vertices in a part but the last, rounded up to a multiple of 16.")
+           "min_part: the fewest vertices in a part but the last, rounded up to a multiple of 16. "
+           "spin_microseconds: how long a worker watches for the next call, using its core, before it sleeps "
+           "(at most one second); None: 100 if the process may run on as many CPUs as the pool has threads, else 0.")
       .def_property_readonly("size", &SkinningPool::size, "Threads, the calling thread included.")
       .def_property_readonly("min_part", &SkinningPool::min_part, "The fewest vertices in a part but the last (a multiple of 16).")
+      .def_property_readonly("spin_microseconds", &SkinningPool::spin_microseconds, "How long a worker watches for the next call before it sleeps.")
       .def("__repr__", [](const SkinningPool& p) {
-        return "SkinningThreads(" + std::to_string(p.size()) + ", min_part=" + std::to_string(p.min_part()) + ")";
+        return "SkinningThreads(" + std::to_string(p.size()) + ", min_part=" + std::to_string(p.min_part()) +
+               ", spin_microseconds=" + std::to_string(p.spin_microseconds()) + ")";
       });
   m.def("skin_vertices", [](const dq::Skin& skin, py::handle bone_world, dq::SkinningMethod method, std::optional<SkinningPool*> pool) {
     const auto bw = dual_quaternions_from_numpy(bone_world, "bone_world");

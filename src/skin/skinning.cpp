@@ -7,6 +7,9 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#if defined(__linux__)
+#include <sched.h>
+#endif
 #include <string>
 
 #include "dq/convert/matrix.hpp"
@@ -384,6 +387,15 @@ void pause() noexcept {  // in a spin: lets the core's other thread run, and sav
 #endif
 }
 
+/// The CPUs this process may run on (its affinity mask), or the hardware's threads where that is unknown.
+unsigned cpus_available() noexcept {
+#if defined(__linux__)
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof set, &set) == 0) return static_cast<unsigned>(CPU_COUNT(&set));
+#endif
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
 /// Spins until `done()` or for `microseconds`, whichever comes first (the clock read once in 64 turns).
 template <class Done>
 void spin(Done done, unsigned microseconds) noexcept {
@@ -392,8 +404,11 @@ void spin(Done done, unsigned microseconds) noexcept {
 }
 }  // namespace
 
-SkinningThreads::SkinningThreads(unsigned threads, std::size_t min_part)
-    : min_part_(std::max<std::size_t>(16, whole_vectors(std::min(min_part, std::numeric_limits<std::size_t>::max() - 15)))) {
+SkinningThreads::SkinningThreads(unsigned threads, std::size_t min_part, unsigned worker_spin_microseconds)
+    : min_part_(std::max<std::size_t>(16, whole_vectors(std::min(min_part, std::numeric_limits<std::size_t>::max() - 15)))),
+      worker_spin_(worker_spin_microseconds != kAutomaticWorkerSpin ? worker_spin_microseconds
+                   : std::max(1u, threads) <= cpus_available()   ? kWorkerSpinMicroseconds
+                                                                 : 0) {
   try {
     for (unsigned i = 1; i < std::max(1u, threads); ++i) workers_.emplace_back([this] { work(); });
   } catch (...) {  // a thread that could not start (std::system_error): stop those that did, or their destruction would terminate
@@ -477,12 +492,16 @@ Status SkinningThreads::run(std::span<const SkinningJob> jobs) {
   }
   start_.notify_all();
   run_parts();
-  // Every part is claimed; wait for the workers that joined, and close the call to the others. Their
-  // parts are short, so spin first: a sleep here would add a wake-up (tens of microseconds) to the call.
+  // Every part is claimed: close the call to the workers that have not joined (they would find
+  // nothing to do, and keep this thread waiting), then wait for those that did. Their parts are
+  // short, so spin first: a sleep here would add a wake-up (tens of microseconds) to the call.
+  {
+    std::lock_guard lock(mutex_);
+    open_ = false;
+  }
   spin([this] { return joined_.load() == 0; }, kSpinMicroseconds);
   std::unique_lock lock(mutex_);
   done_.wait(lock, [this] { return joined_ == 0; });
-  open_ = false;
   jobs_ = {};  // the caller's jobs, which may not outlive this call
   return {};
 }
@@ -490,18 +509,18 @@ Status SkinningThreads::run(std::span<const SkinningJob> jobs) {
 void SkinningThreads::work() {
   std::size_t seen = 0;
   for (;;) {
-    // Calls back to back (a script's loop, the meshes of a frame run one by one) find the worker
-    // awake: it spins a while for the next call before it sleeps, as a wake-up takes tens of
-    // microseconds, and run()'s notify costs no system call while no worker sleeps.
-    spin([&] { return generation_.load(std::memory_order_relaxed) != seen; }, kSpinMicroseconds);
+    // Calls back to back (a script's loop) find the worker awake: it spins a while for the next
+    // call before it sleeps, as a wake-up takes tens of microseconds (and, with glibc, run()'s
+    // notify makes no system call while no worker sleeps).
+    spin([&] { return generation_.load(std::memory_order_relaxed) != seen; }, worker_spin_);
     std::unique_lock lock(mutex_);
     start_.wait(lock, [&] { return stop_ || generation_ != seen; });
     if (stop_) return;
     seen = generation_;
     if (!open_) continue;  // that call closed before this worker came: wait for the next
     ++joined_;
-    std::fesetenv(&env_);
     lock.unlock();
+    std::fesetenv(&env_);  // env_ does not change while a worker has joined
     run_parts();  // jobs_ does not change while a worker has joined
     lock.lock();
     --joined_;

@@ -305,11 +305,13 @@ def test_skinning_pools_give_the_one_thread_result(rng):
     worlds = [random_rigid(rng, 5, scale=1.0)[0] for _ in range(6)]
     methods = [dqkit.SkinningMethod.lbs, dqkit.SkinningMethod.dqs, dqkit.SkinningMethod.cor]
     one = [dqkit.skin_vertices(skin, w, m) for w in worlds for m in methods]
-    for n, min_part in ((2, 16), (3, 0), (0, 1), (2, None)):
-        pool = dqkit.SkinningThreads(n) if min_part is None else dqkit.SkinningThreads(n, min_part=min_part)
+    for n, min_part, spin in ((2, 16, 100), (3, 0, 0), (0, 1, 7), (2, None, None)):
+        pool = dqkit.SkinningThreads(n) if min_part is None else dqkit.SkinningThreads(n, min_part=min_part, spin_microseconds=spin)
         assert pool.size == (n or min(os.cpu_count(), 1024))
         assert pool.min_part == (4096 if min_part is None else 16)  # rounded up to a multiple of 16, at least 16
-        assert repr(pool) == f"SkinningThreads({pool.size}, min_part={pool.min_part})"
+        automatic = 100 if pool.size <= len(os.sched_getaffinity(0)) else 0  # a CPU per thread, or no spin
+        assert pool.spin_microseconds == (automatic if spin is None else spin)
+        assert repr(pool) == f"SkinningThreads({pool.size}, min_part={pool.min_part}, spin_microseconds={pool.spin_microseconds})"
         got = [dqkit.skin_vertices(skin, w, m, pool=pool) for w in worlds for m in methods]
         for a, b in zip(got, one):
             np.testing.assert_array_equal(a.view(np.uint32), b.view(np.uint32))
@@ -341,6 +343,12 @@ def test_skinning_pools_give_the_one_thread_result(rng):
         with pytest.raises(TypeError):
             dqkit.SkinningThreads(2, min_part=bad)
     assert dqkit.SkinningThreads(2, min_part=np.int16(40)).min_part == 48
+    with pytest.raises(ValueError, match=r"spin_microseconds: expected at most 1000000 \(one second\), got 1000001"):
+        dqkit.SkinningThreads(2, spin_microseconds=1_000_001)
+    with pytest.raises(ValueError, match="spin_microseconds: expected a count from 0 to 18446744073709551615, got -1"):
+        dqkit.SkinningThreads(2, spin_microseconds=-1)
+    with pytest.raises(TypeError):
+        dqkit.SkinningThreads(2, spin_microseconds=False)
     with pytest.raises(TypeError):
         dqkit.skin_vertices(skin, worlds[0], pool=2)  # a pool, not a count
     np.testing.assert_array_equal(dqkit.skin_vertices(skin, worlds[0], dqkit.SkinningMethod.lbs, pool=None), one[0])

@@ -22,6 +22,7 @@
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <mutex>
 #include <span>
 #include <thread>
@@ -82,9 +83,10 @@ struct SkinningJob {
 /// run() returns when the claimed parts are done. A worker that wakes late claims fewer parts, or
 /// none, and a call of at most `min_part` vertices in all runs on the calling thread alone, so a
 /// small call costs about its time on one thread and not that plus a worker's wake-up
-/// (docs/skinning.md, "Threads", has the measurements). After a call, workers spin for up to
-/// kSpinMicroseconds before they sleep, so that calls back to back need no wake-up; a pool between
-/// frames sleeps. Several jobs in one call (the meshes of a
+/// (docs/skinning.md, "Threads", has the measurements). A worker spins for up to
+/// `worker_spin_microseconds` (by default 100 where the pool has a CPU per thread) for the next call
+/// before it sleeps, so that calls back
+/// to back need no wake-up; a pool between frames sleeps. Several jobs in one call (the meshes of a
 /// model) share the threads as one job would: small meshes need not each run alone. The result
 /// does not depend on who runs a part: workers take the caller's floating-point environment
 /// (rounding, flush-to-zero) for each call. One run() at a time: calls from several threads need a
@@ -95,19 +97,26 @@ class SkinningThreads {
   /// a few microseconds, and 4096 vertices take about ten in cache.
   static constexpr std::size_t kDefaultMinPart = 4096;
   static constexpr unsigned kPartsPerThread = 4;
-  /// run() spins this long for the workers that joined a call before it sleeps; a worker, this
-  /// long for the next call.
-  static constexpr unsigned kSpinMicroseconds = 100;
+  static constexpr unsigned kSpinMicroseconds = 100;  ///< run() spins this long for the workers that joined a call before it sleeps
+  static constexpr unsigned kWorkerSpinMicroseconds = 100;  ///< the automatic spin where every thread has a CPU
+  /// `worker_spin_microseconds`'s default: kWorkerSpinMicroseconds when the pool has no more threads
+  /// than the CPUs this process may run on (its affinity mask), else 0.
+  static constexpr unsigned kAutomaticWorkerSpin = std::numeric_limits<unsigned>::max();
 
   /// `threads`: the total, the caller included (0 counts as 1). `min_part` is rounded up to a
-  /// multiple of 16 (0 counts as 16; the largest values, to the largest multiple). Throws std::system_error, with no thread left running, when
-  /// the system cannot start one.
-  explicit SkinningThreads(unsigned threads, std::size_t min_part = kDefaultMinPart);
+  /// multiple of 16 (0 counts as 16; the largest values, to the largest multiple).
+  /// `worker_spin_microseconds`: how long a worker watches for the next call, burning its core,
+  /// before it sleeps; give 0 where cores are scarce in a way the affinity mask does not show (a
+  /// container's CPU quota). Throws std::system_error, with no thread left running, when the
+  /// system cannot start one.
+  explicit SkinningThreads(unsigned threads, std::size_t min_part = kDefaultMinPart,
+                           unsigned worker_spin_microseconds = kAutomaticWorkerSpin);
   ~SkinningThreads();
   SkinningThreads(const SkinningThreads&) = delete;
   SkinningThreads& operator=(const SkinningThreads&) = delete;
   unsigned size() const noexcept { return static_cast<unsigned>(workers_.size()) + 1; }
   std::size_t min_part() const noexcept { return min_part_; }
+  unsigned worker_spin_microseconds() const noexcept { return worker_spin_; }
   /// Validates, then runs the job on the calling thread and the workers.
   Status run(const SkinningJob& job) { return run(std::span<const SkinningJob>(&job, 1)); }
   /// Validates every job, and that no two jobs write the same element; then runs them all, their
@@ -125,6 +134,7 @@ class SkinningThreads {
   /// has validated; noexcept, so that a bug would end the program rather than leave the call open.
   void run_parts() noexcept;
   std::size_t min_part_;
+  unsigned worker_spin_;
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable start_, done_;
