@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -17,6 +18,7 @@
 #include "dq/ik/kinematic_model.hpp"
 #include "dq/ik/motion_capture.hpp"
 #include "dq/ik/solver.hpp"
+#include "dq/simd/batch.hpp"
 #include "dq/skin/scene_skin.hpp"
 #include "dq/skin/skin.hpp"
 #include "dq/skin/skinning.hpp"
@@ -327,7 +329,9 @@ void bind_skin_types(py::module_& m) {
       throw py::value_error("SkinningMethod.cor needs centres of rotation: build the skin with triangles");
     const std::size_t n = skin.vertex_count();
     py::array_t<float> out({static_cast<py::ssize_t>(n), py::ssize_t{3}});
-    std::vector<float> px(n), py_(n), pz(n);
+    // The kernels write component arrays; these need no zeroing, as every element is written.
+    const auto components = std::make_unique_for_overwrite<float[]>(3 * n);
+    const std::span<float> px(components.get(), n), py_(px.data() + n, n), pz(py_.data() + n, n);
     {
       py::gil_scoped_release release;
       dq::SkinPalette palette(skin.bone_count());
@@ -339,9 +343,8 @@ void bind_skin_types(py::module_& m) {
         check(job.validate());
         job.run();
       }
+      dq::simd::from_rows({px.data(), py_.data(), pz.data()}, {as_values<dq::Vec3<float>>(out.mutable_data()), n});
     }
-    auto o = out.mutable_unchecked<2>();
-    for (std::size_t v = 0; v < n; ++v) o(v, 0) = px[v], o(v, 1) = py_[v], o(v, 2) = pz[v];
     return out;
   }, py::arg("skin"), py::arg("bone_world"), py::arg("method") = dq::SkinningMethod::dqs, py::arg("pool") = py::none(),
      "(V, 3) float32 skinned positions for (B, 8) bone world transforms; on `pool` (a SkinningThreads) if given, "
@@ -350,8 +353,7 @@ void bind_skin_types(py::module_& m) {
   py::class_<dq::SkinnedFrame>(m, "SkinnedFrame")
       .def_property_readonly("positions", [](const dq::SkinnedFrame& f) {
         py::array_t<float> a({static_cast<py::ssize_t>(f.size()), py::ssize_t{3}});
-        auto o = a.mutable_unchecked<2>();
-        for (std::size_t v = 0; v < f.size(); ++v) o(v, 0) = f.px[v], o(v, 1) = f.py[v], o(v, 2) = f.pz[v];
+        dq::simd::from_rows({f.px.data(), f.py.data(), f.pz.data()}, {as_values<dq::Vec3<float>>(a.mutable_data()), f.size()});
         return read_only(a);
       }, "(V, 3) float32 positions (a read-only copy).")
       .def_property_readonly("triangles", [](const dq::SkinnedFrame& f) {

@@ -399,6 +399,7 @@ unsigned cpus_available() noexcept {
 /// Spins until `done()` or for `microseconds`, whichever comes first (the clock read once in 64 turns).
 template <class Done>
 void spin(Done done, unsigned microseconds) noexcept {
+  if (microseconds == 0) return;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::microseconds(microseconds);
   for (unsigned i = 0; !done() && (++i % 64 != 0 || std::chrono::steady_clock::now() < give_up);) pause();
 }

@@ -201,6 +201,11 @@ def test_scene_skin_on_a_pool():
         for method in (dqkit.SkinningMethod.lbs, dqkit.SkinningMethod.dqs):
             one, two = skin.skin(world, method), skin.skin(world, method, pool=pool)
             np.testing.assert_array_equal(two.positions.view(np.uint32), one.positions.view(np.uint32))
+    # The positions' rows are the frame's vertices as the CSV writer gives them (%.9g: every
+    # float32 exactly), written by C++ from the same component arrays.
+    rows = dqkit.format_frame(two, dqkit.MeshFormat.csv).splitlines()[1:]
+    csv = np.array([[float(x) for x in row.split(",")[1:]] for row in rows], dtype=np.float32)
+    np.testing.assert_array_equal(csv.view(np.uint32), two.positions.view(np.uint32))
 
 
 def test_import_motion_keeps_lights_and_cameras_when_asked():

@@ -79,18 +79,18 @@ struct SkinningJob {
 /// A fixed set of worker threads for skinning jobs, started once and reused every frame (no
 /// thread creation per frame). run() cuts each job's range into parts of whole 16-vertex vectors,
 /// of one size for all the jobs of a call: about kPartsPerThread per thread, plus at most one per
-/// job (a job's last part, which may be smaller), and none smaller than `min_part` vertices but those; the calling thread and the workers claim parts until none is left, and
-/// run() returns when the claimed parts are done. A worker that wakes late claims fewer parts, or
-/// none, and a call of at most `min_part` vertices in all runs on the calling thread alone, so a
-/// small call costs about its time on one thread and not that plus a worker's wake-up
-/// (docs/skinning.md, "Threads", has the measurements). A worker spins for up to
-/// `worker_spin_microseconds` (by default 100 where the pool has a CPU per thread) for the next call
-/// before it sleeps, so that calls back
-/// to back need no wake-up; a pool between frames sleeps. Several jobs in one call (the meshes of a
-/// model) share the threads as one job would: small meshes need not each run alone. The result
-/// does not depend on who runs a part: workers take the caller's floating-point environment
-/// (rounding, flush-to-zero) for each call. One run() at a time: calls from several threads need a
-/// lock of their own (the Python binding has one).
+/// job (a job's last part, which may be smaller), and none but those smaller than `min_part`
+/// vertices. The calling thread and the workers claim parts until none is left, and run() returns
+/// when the claimed parts are done. A worker that wakes late claims fewer parts, or none, and a
+/// call of at most `min_part` vertices in all runs on the calling thread alone, so a small call
+/// costs about its time on one thread and not that plus a worker's wake-up (docs/skinning.md,
+/// "Threads", has the measurements). A worker spins for up to `worker_spin_microseconds` (by
+/// default 100 where the pool has a CPU per thread) for the next call before it sleeps, so that
+/// calls back to back need no wake-up; a pool between frames sleeps. Several jobs in one call (the
+/// meshes of a model) share the threads as one job would: small meshes need not each run alone.
+/// The result does not depend on who runs a part: workers take the caller's floating-point
+/// environment (rounding, flush-to-zero) for each call. One run() at a time: calls from several
+/// threads need a lock of their own (the Python binding has one).
 class SkinningThreads {
  public:
   /// The default `min_part`: on the machine of docs/skinning.md, handing a part to a worker costs
