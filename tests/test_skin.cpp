@@ -75,6 +75,10 @@ struct Output {
     if (tangents) v.tx = tx, v.ty = ty, v.tz = tz;
     return v;
   }
+  /// Every element of every array set to x (a sentinel that a job must not overwrite).
+  void fill(float x) {
+    for (auto part : parts) std::fill((this->*part).begin(), (this->*part).end(), x);
+  }
   Vec3<float> p(std::size_t v) const { return {px[v], py[v], pz[v]}; }
   Vec3<float> n(std::size_t v) const { return {nx[v], ny[v], nz[v]}; }
   Vec3<float> t(std::size_t v) const { return {tx[v], ty[v], tz[v]}; }
@@ -346,7 +350,7 @@ TEST(Skinning, ThreadsClaimPartsOfEveryCount) {
           SCOPED_TRACE(std::to_string(threads) + " threads, parts of " + std::to_string(min_part) + " and more, vertices " +
                        std::to_string(first) + " + " + std::to_string(count));
           Output out(n);
-          for (auto part : Output::parts) std::fill((out.*part).begin(), (out.*part).end(), fill);
+          out.fill(fill);
           ASSERT_TRUE(pool.run({&skin, &palette, SkinningMethod::dqs, out.view(true, false), first, count}).ok());
           ASSERT_TRUE(holds_range(out, reference, first, count, fill));
         }
@@ -383,7 +387,7 @@ TEST(Skinning, ThreadsRunJobsBackToBack) {
     for (std::size_t i = 0; i < 400; ++i) {
       const std::size_t k = i % 2;
       if (i % 10 == 0) std::this_thread::sleep_for(std::chrono::microseconds(3 * SkinningThreads::kWorkerSpinMicroseconds));
-      for (auto part : Output::parts) std::fill((out[k].*part).begin(), (out[k].*part).end(), fill);
+      out[k].fill(fill);
       ASSERT_TRUE(pool.run({&skin, &palettes[k], SkinningMethod::dqs, out[k].view(true, false), first[k], count[k]}).ok());
       ASSERT_TRUE(holds_range(out[k], reference[k], first[k], count[k], fill)) << "job " << i << ", workers spinning " << spin << " us";
     }
@@ -462,8 +466,7 @@ TEST(Skinning, ThreadsRunManyJobsAsOne) {
                           {1, 300, 400, SkinningMethod::dqs},   {0, 6000, 3000, SkinningMethod::lbs}};  // vertices 18–39 and 5056–5999 of skin 0 in no job
   const float fill = -std::numeric_limits<float>::quiet_NaN();
   std::vector<Output> expected{Output(n[0]), Output(n[1])}, out{Output(n[0]), Output(n[1])};
-  for (Output& o : expected)
-    for (auto part : Output::parts) std::fill((o.*part).begin(), (o.*part).end(), fill);
+  for (Output& o : expected) o.fill(fill);
   std::vector<SkinningJob> jobs;
   for (const Range& r : ranges) {
     const SkinningJob job{&skins[r.skin], &palettes[r.skin], r.method, out[r.skin].view(true, false), r.first, r.count};
@@ -473,15 +476,12 @@ TEST(Skinning, ThreadsRunManyJobsAsOne) {
     for (auto part : Output::parts)
       std::copy_n((alone.*part).data() + r.first, r.count, (expected[r.skin].*part).data() + r.first);
   }
-  for (Output& o : expected)
-    for (auto part : {&Output::tx, &Output::ty, &Output::tz}) std::fill((o.*part).begin(), (o.*part).end(), fill);
   for (unsigned threads : {1u, 2u, 3u})
     for (std::size_t min_part : {std::size_t{16}, SkinningThreads::kDefaultMinPart, std::size_t{16384}}) {
       SkinningThreads pool(threads, min_part);
       for (int call = 0; call < 50; ++call) {
         SCOPED_TRACE(std::to_string(threads) + " threads, parts of " + std::to_string(min_part) + " and more, call " + std::to_string(call));
-        for (Output& o : out)
-          for (auto part : Output::parts) std::fill((o.*part).begin(), (o.*part).end(), fill);
+        for (Output& o : out) o.fill(fill);
         const Status s = pool.run(jobs);
         ASSERT_TRUE(s.ok()) << s.error().message;
         for (std::size_t k = 0; k < 2; ++k) ASSERT_TRUE(holds_range(out[k], expected[k], 0, n[k], fill)) << "skin " << k;
@@ -500,7 +500,7 @@ TEST(Skinning, ThreadsRefuseJobsThatWriteTheSameElements) {
   update_palette(skin, random_pose(rng, 11), palette);
   const float fill = -std::numeric_limits<float>::quiet_NaN();
   Output out(n);
-  for (auto part : Output::parts) std::fill((out.*part).begin(), (out.*part).end(), fill);
+  out.fill(fill);
   const SkinnedVertices all = out.view(true, false);
   SkinnedVertices aliased = all;  // its nx[v] is pz[v + 850]
   aliased.nx = std::span<float>(out.pz).subspan(850);
