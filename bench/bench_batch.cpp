@@ -484,7 +484,8 @@ struct KernelArrays {
   ComponentArrays<float, 3> v{n};
   ComponentArrays<float, 12> matrix{n};
   std::vector<DualQuaternion<float>> dq_a, dq_b, dq_scaled, dq_out;
-  KernelArrays() : dq_out(n) {
+  std::vector<Vec3<float>> points_out;  // the points v as rows (x, y, z a point), by from_rows_points
+  KernelArrays() : dq_out(n), points_out(n) {
     std::mt19937 rng(5);
     std::normal_distribution<float> g;
     std::uniform_real_distribution<float> s(0.5f, 2.0f);
@@ -496,6 +497,7 @@ struct KernelArrays {
     simd::to_rows(dq_a, simd::rows(out));
     for (std::size_t k = 0; k < 3; ++k)
       for (std::size_t i = 0; i < n; ++i) v[k][i] = g(rng);
+    from_rows_points();
   }
   std::array<float*, 12> matrices() { return matrix.data(); }
   DualQuaternion<float> result(std::size_t i) const {
@@ -518,6 +520,9 @@ struct KernelArrays {
     simd::slerp({a[0].data(), a[1].data(), a[2].data(), a[3].data()}, {b[0].data(), b[1].data(), b[2].data(), b[3].data()}, kBlendT,
                 {out[0].data(), out[1].data(), out[2].data(), out[3].data()}, n);
   }
+  // Only in OnTarget, with no case of their own: the points' layout conversions.
+  void to_rows_points() { simd::to_rows(points_out, {out[0].data(), out[1].data(), out[2].data()}); }
+  void from_rows_points() { simd::from_rows({v[0].data(), v[1].data(), v[2].data()}, points_out); }
 };
 KernelArrays& kernel_arrays() {
   static KernelArrays k;
@@ -734,7 +739,8 @@ void register_on_target() {
       {"compose", &KernelArrays::compose},         {"inverse", &KernelArrays::inverse},     {"transform_points", &KernelArrays::points},
       {"transform_directions", &KernelArrays::directions}, {"to_matrices", &KernelArrays::to_matrices}, {"normalize", &KernelArrays::normalize},
       {"slerp", &KernelArrays::slerp},             {"dlb", &KernelArrays::dlb},             {"sclerp", &KernelArrays::sclerp},
-      {"to_rows", &KernelArrays::to_rows},         {"from_rows", &KernelArrays::from_rows}};
+      {"to_rows", &KernelArrays::to_rows},         {"from_rows", &KernelArrays::from_rows},
+      {"to_rows_points", &KernelArrays::to_rows_points}, {"from_rows_points", &KernelArrays::from_rows_points}};
   for (const auto& [name, kernel] : kernels)
     for (simd::Target target : simd::available_targets())
       benchmark::RegisterBenchmark(("OnTarget/" + std::string(name) + "/" + std::string(simd::to_string(target))).c_str(), OnTarget, kernel, target);

@@ -1,11 +1,13 @@
 // Records of C floats (a bone's palette entry, a dual quaternion of an array of structures) moved
 // into and out of C component vectors of N lanes, one record per lane: whole-record loads and
-// stores, and transposes with shuffles (no gathers or scatters). Used by the skinning kernels
+// stores, and transposes with shuffles (no gathers or scatters); and points (x, y, z) one after
+// another, to and from three coordinate vectors. Used by the skinning kernels
 // (src/skin/skinning.cpp), the layout conversions of src/simd/batch.cpp and the forward kinematics
 // of frames of src/simd/pose_blocks.cpp. Private to dqkit.
 #pragma once
 
 #include <cstring>
+#include <utility>
 
 #include "vector_types.hpp"
 
@@ -56,31 +58,69 @@ template <class F>
   }
 }
 
-/// A record's block of four floats at p as one vector (no alignment required); with C = 3 (a
-/// point's x, y, z), only those three are read and the fourth lane repeats x.
-template <int C>
-[[gnu::always_inline]] inline float4 load_block(const float* p) {
-  if constexpr (C == 3) {
-    using float2 = float __attribute__((vector_size(8)));
-    const float2 xy = load_as<float2>(p);
-    return __builtin_shufflevector(xy, float2{p[2], 0.0f}, 0, 1, 2, 0);
-  } else {
-    return load_as<float4>(p);
+/// N points as three coordinate vectors (x, y, z) and as 3 N floats one point after another (x0 y0
+/// z0 x1 ...), in three whole-vector loads or stores: each vector of one form is two two-source
+/// shuffles of the other form's three (`vpermt2ps` with AVX-512). In the arrays of points of
+/// docs/performance.md ("Arrays of structures in and out") this moved points 1.5-2.7 times as fast
+/// as the records' transpose.
+template <int N>
+struct Points {
+  /// Interleaved vector o's lane e holds coordinate (N o + e) % 3 of point (N o + e) / 3.
+  template <int O>
+  struct Interleaved {
+    static constexpr int source(int e) { return (N * O + e) % 3; }
+    static constexpr int lane(int e) { return (N * O + e) / 3; }
+  };
+  /// Coordinate C's lane e is interleaved vector (3 e + C) / N's lane (3 e + C) % N.
+  template <int C>
+  struct Coordinate {
+    static constexpr int source(int e) { return (3 * e + C) / N; }
+    static constexpr int lane(int e) { return (3 * e + C) % N; }
+  };
+  /// The first shuffle's index for lane e: from a or b, or for a lane that c fills, a neighbour's
+  /// index (a repeated lane makes a simpler shuffle than an arbitrary one).
+  template <class Map>
+  static constexpr int from_a_or_b(int e) {
+    for (int d = 0; d < N; ++d)
+      for (int f : {e - d, e + d})
+        if (f >= 0 && f < N && Map::source(f) != 2) return Map::source(f) == 1 ? N + Map::lane(f) : Map::lane(f);
+    return 0;
   }
-}
-/// The inverse: b's four floats to p, or with C = 3 its first three only.
-template <int C>
-[[gnu::always_inline]] inline void store_block(float* p, float4 b) {
-  if constexpr (C == 3) {
-    using float2 = float __attribute__((vector_size(8)));
-    const float2 xy = __builtin_shufflevector(b, b, 0, 1);
-    const float z = b[2];
-    std::memcpy(p, &xy, sizeof xy);
-    std::memcpy(p + 2, &z, sizeof z);
-  } else {
-    std::memcpy(p, &b, sizeof b);
+  /// Lane e of the result: lane Map::lane(e) of the vector Map::source(e) of (a, b, c).
+  template <class Map, int... E>
+  [[gnu::always_inline]] static vec<N> pick(vec<N> a, vec<N> b, vec<N> c, std::integer_sequence<int, E...>) {
+    const vec<N> ab = __builtin_shufflevector(a, b, from_a_or_b<Map>(E)...);
+    return __builtin_shufflevector(ab, c, (Map::source(E) == 2 ? N + Map::lane(E) : E)...);
   }
-}
+  [[gnu::always_inline]] static void store(vec<N> x, vec<N> y, vec<N> z, float* out) {
+    vec<N> r0, r1, r2;
+    if constexpr (N == 4) {
+      // In shuffles that take two lanes of each source (shufps, unpcklps: SSE2 has no other), where
+      // GCC 12 compiles pick's general shuffles for SSE2 into slower sequences than a transpose.
+      const float4 d = __builtin_shufflevector(x, y, 2, 6, 3, 7);  // x2 y2 x3 y3
+      r0 = __builtin_shufflevector(__builtin_shufflevector(x, y, 0, 4, 1, 5), __builtin_shufflevector(z, x, 0, 0, 5, 5), 0, 1, 4, 6);
+      r1 = __builtin_shufflevector(__builtin_shufflevector(y, z, 1, 1, 5, 5), d, 0, 2, 4, 5);
+      r2 = __builtin_shufflevector(__builtin_shufflevector(z, d, 2, 2, 6, 6), __builtin_shufflevector(d, z, 3, 3, 7, 7), 0, 2, 4, 6);
+    } else {
+      constexpr auto lanes = std::make_integer_sequence<int, N>{};
+      r0 = pick<Interleaved<0>>(x, y, z, lanes), r1 = pick<Interleaved<1>>(x, y, z, lanes), r2 = pick<Interleaved<2>>(x, y, z, lanes);
+    }
+    // One store each (an array of three, copied whole, left a second copy on the stack).
+    std::memcpy(out, &r0, sizeof r0), std::memcpy(out + N, &r1, sizeof r1), std::memcpy(out + 2 * N, &r2, sizeof r2);
+  }
+  [[gnu::always_inline]] static void load(const float* in, vec<N>* xyz) {
+    const vec<N> a = load_as<vec<N>>(in), b = load_as<vec<N>>(in + N), c = load_as<vec<N>>(in + 2 * N);
+    if constexpr (N == 4) {  // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3; shuffles as in store
+      xyz[0] = __builtin_shufflevector(__builtin_shufflevector(a, a, 0, 3, 0, 3), __builtin_shufflevector(b, c, 2, 2, 5, 5), 0, 1, 4, 6);
+      xyz[1] = __builtin_shufflevector(__builtin_shufflevector(a, b, 1, 1, 4, 4), __builtin_shufflevector(b, c, 3, 3, 6, 6), 0, 2, 4, 6);
+      xyz[2] = __builtin_shufflevector(__builtin_shufflevector(a, b, 2, 2, 5, 5), __builtin_shufflevector(c, c, 0, 3, 0, 3), 0, 2, 4, 5);
+    } else {
+      constexpr auto lanes = std::make_integer_sequence<int, N>{};
+      xyz[0] = pick<Coordinate<0>>(a, b, c, lanes), xyz[1] = pick<Coordinate<1>>(a, b, c, lanes), xyz[2] = pick<Coordinate<2>>(a, b, c, lanes);
+    }
+  }
+};
+
 /// Blocks of four floats joined into one vector, lowest first.
 [[gnu::always_inline]] inline float8 join(float4 a, float4 b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7); }
 [[gnu::always_inline]] inline float16 join(float8 a, float8 b) {
@@ -94,30 +134,29 @@ template <class F>
   return b;
 }
 
-/// out[c] lane j = record(j)[c] for c < C (C = 3, 4 or 8) and j < N (N = 4, 8, 16): one load of
+/// out[c] lane j = record(j)[c] for c < C (C = 4 or 8) and j < N (N = 4, 8, 16): one load of
 /// the record's C floats per lane (in blocks of four), then a transpose. `record(j)` gives lane j's
 /// record.
 template <int N, int C, class Record>
 [[gnu::always_inline]] inline void load_records(Record record, vec<N>* out) {
-  static_assert(C == 3 || C == 4 || C == 8);
+  static_assert(C == 4 || C == 8);
   using V = vec<N>;
-  if constexpr (C <= 4 || N == 4) {
+  if constexpr (C == 4 || N == 4) {
     // Rows of four: lane j's record (or half of it) in block j / 4 of row j % 4.
-    constexpr int B = C <= 4 ? C : 4;  // the floats of a block
-    for (int half = 0; half < (C + 3) / 4; ++half) {
+    for (int half = 0; half < C / 4; ++half) {
       V r[4], t[4];
       for (int j = 0; j < 4; ++j) {
         const int o = 4 * half;
         if constexpr (N == 4)
-          r[j] = load_block<B>(record(j) + o);
+          r[j] = load_as<float4>(record(j) + o);
         else if constexpr (N == 8)
-          r[j] = join(load_block<B>(record(j) + o), load_block<B>(record(j + 4) + o));
+          r[j] = join(load_as<float4>(record(j) + o), load_as<float4>(record(j + 4) + o));
         else
-          r[j] = join(join(load_block<B>(record(j) + o), load_block<B>(record(j + 4) + o)),
-                      join(load_block<B>(record(j + 8) + o), load_block<B>(record(j + 12) + o)));
+          r[j] = join(join(load_as<float4>(record(j) + o), load_as<float4>(record(j + 4) + o)),
+                      join(load_as<float4>(record(j + 8) + o), load_as<float4>(record(j + 12) + o)));
       }
       transpose4_in_blocks(r, t);
-      for (int c = 0; c < B; ++c) out[4 * half + c] = t[c];
+      for (int c = 0; c < 4; ++c) out[4 * half + c] = t[c];
     }
   } else {
     // Eight components, N = 8 or 16: row j holds the records of lanes j (and j + 8), whose two
@@ -139,18 +178,20 @@ template <int N, int C, class Record>
 /// written whole (in blocks of four floats) and nothing else written.
 template <int N, int C, class Record>
 [[gnu::always_inline]] inline void store_records(const vec<N>* in, Record record) {
-  static_assert(C == 3 || C == 4 || C == 8);
+  static_assert(C == 4 || C == 8);
   using V = vec<N>;
-  if constexpr (C <= 4 || N == 4) {
-    constexpr int B = C <= 4 ? C : 4;
-    for (int half = 0; half < (C + 3) / 4; ++half) {
+  if constexpr (C == 4 || N == 4) {
+    for (int half = 0; half < C / 4; ++half) {
       V c4[4], r[4];
-      for (int c = 0; c < 4; ++c) c4[c] = in[4 * half + (c < B ? c : 0)];  // a point's fourth lane: x again, not stored
+      for (int c = 0; c < 4; ++c) c4[c] = in[4 * half + c];
       transpose4_in_blocks(c4, r);
 #pragma GCC unroll 4
       for (int j = 0; j < 4; ++j)
 #pragma GCC unroll 4
-        for (int g = 0; g < N / 4; ++g) store_block<B>(record(j + 4 * g) + 4 * half, block(r[j], g));
+        for (int g = 0; g < N / 4; ++g) {
+          const float4 b = block(r[j], g);
+          std::memcpy(record(j + 4 * g) + 4 * half, &b, sizeof b);
+        }
     }
   } else {
     V u[8], r[8];
