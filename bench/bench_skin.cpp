@@ -4,8 +4,9 @@
 // structures) in the same binary, and STREAM's triad measured in the same run as the roof; and
 // DQS's bytes moved with no arithmetic (skin_streams), the most the memory allows its streams;
 // and each method on one thread with each instruction set the CPU has forced (dqkit_skinning_on_target);
-// small DQS jobs on one and two threads (dqkit_skinning_small_jobs), and many jobs run one by one or
-// in one call (dqkit_skinning_many_jobs).
+// small DQS jobs on one and two threads (dqkit_skinning_small_jobs), many jobs run one by one or
+// in one call (dqkit_skinning_many_jobs), and DQS into rows against arrays converted to rows
+// (dqkit_skinning_rows).
 //
 // The skin: at least 2^20 vertices and at least four times the last-level cache in bytes (read
 // from the CPU), 4 influences each, 64 bones with random rigid binds and poses. Every GLM variant
@@ -212,6 +213,39 @@ void dqkit_skinning_many_jobs(benchmark::State& state) {
   }
   state.counters["vertices_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()) * static_cast<double>(n), benchmark::Counter::kIsRate);
 }
+/// DQS's positions and normals wanted as rows (x, y, z a vertex: a NumPy (V, 3) array, a GPU vertex
+/// buffer), from the whole skin: written as rows by the job (rows:1), or written as arrays and
+/// then converted by dq::simd::from_rows on the calling thread (rows:0), the way to rows without
+/// the rows output. The two are checked once, outside the timing, to agree bit for bit.
+void dqkit_skinning_rows(benchmark::State& state) {
+  Fixture& f = fixture();
+  static_assert(sizeof(Vec3<float>) == 3 * sizeof(float));
+  std::vector<Vec3<float>> positions(f.n), normals(f.n);
+  const auto floats = [](std::vector<Vec3<float>>& v) { return std::span<float>(reinterpret_cast<float*>(v.data()), 3 * v.size()); };
+  const SkinnedVertices as_rows{.positions = floats(positions), .normals = floats(normals)};
+  Output arrays(f.n);
+  SkinningThreads pool(static_cast<unsigned>(state.range(0)));
+  const auto frame = [&](bool rows) {
+    if (rows) return pool.run({&f.skin, &f.palette, SkinningMethod::dqs, as_rows, 0, f.n});
+    const Status s = pool.run({&f.skin, &f.palette, SkinningMethod::dqs, arrays.view(), 0, f.n});
+    simd::from_rows({arrays.c[0].data(), arrays.c[1].data(), arrays.c[2].data()}, positions);
+    simd::from_rows({arrays.c[3].data(), arrays.c[4].data(), arrays.c[5].data()}, normals);
+    return s;
+  };
+  const bool rows = state.range(1) != 0;
+  if (!frame(!rows)) state.SkipWithError("job does not validate");
+  const std::vector<Vec3<float>> expected_positions = positions, expected_normals = normals;
+  if (!frame(rows)) state.SkipWithError("job does not validate");
+  if (std::memcmp(positions.data(), expected_positions.data(), 12 * f.n) != 0 || std::memcmp(normals.data(), expected_normals.data(), 12 * f.n) != 0)
+    state.SkipWithError("rows and arrays differ");
+  state.SetLabel(std::string(simd::to_string(simd::current_target())));
+  for (auto _ : state) {
+    frame(rows);
+    benchmark::DoNotOptimize(positions.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["vertices_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()) * static_cast<double>(f.n), benchmark::Counter::kIsRate);
+}
 /// One thread with the instruction set forced (simd::ScopedTarget): what each target brings, in one
 /// run. Registered in main for every target this CPU has.
 void dqkit_skinning_on_target(benchmark::State& state, SkinningMethod method, simd::Target target) {
@@ -389,6 +423,7 @@ BENCHMARK_CAPTURE(dqkit_skinning, lbs, SkinningMethod::lbs)->Arg(1)->Arg(2)->Use
 BENCHMARK_CAPTURE(dqkit_skinning, dqs, SkinningMethod::dqs)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK_CAPTURE(dqkit_skinning, cor, SkinningMethod::cor)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK(dqkit_skinning_many_jobs)->Name("dqkit_skinning_many_jobs/dqs")->ArgNames({"jobs", "threads", "together"})->ArgsProduct({{4, 16, 64}, {1, 2}, {0, 1}})->UseRealTime();
+BENCHMARK(dqkit_skinning_rows)->Name("dqkit_skinning_rows/dqs")->ArgNames({"threads", "rows"})->ArgsProduct({{1, 2}, {0, 1}})->UseRealTime();
 BENCHMARK(dqkit_skinning_small_jobs)->Name("dqkit_skinning_small_jobs/dqs")->ArgsProduct({{1024, 2048, 4096, 8192, 16384, 65536}, {1, 2}})->UseRealTime();
 BENCHMARK(skin_streams<StreamLayout::separate>)->Name("skin_streams/separate")->UseRealTime();
 BENCHMARK(skin_streams<StreamLayout::interleaved>)->Name("skin_streams/interleaved")->UseRealTime();

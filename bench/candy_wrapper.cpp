@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
   SkinPalette palette(2);
   SkinningThreads threads(1);
   std::vector<float> px(n), py(n), pz(n);
-  const SkinnedVertices out{px, py, pz, {}, {}, {}, {}, {}, {}};
+  const SkinnedVertices out{.px = px, .py = py, .pz = pz};
   const Pose poses[] = {{"rest", 0, 0},           {"twist 30°", 30, 0},   {"twist 60°", 60, 0},  {"twist 90°", 90, 0},
                         {"twist 120°", 120, 0},   {"twist 150°", 150, 0}, {"twist 180°", 180, 0}, {"bend 90°", 0, 90},
                         {"bend 150°", 0, 150},    {"bend 90° + twist 90°", 90, 90}};

@@ -70,7 +70,7 @@ struct Output {
   std::vector<float> px, py, pz, nx, ny, nz, tx, ty, tz;
   explicit Output(std::size_t n) : px(n), py(n), pz(n), nx(n), ny(n), nz(n), tx(n), ty(n), tz(n) {}
   SkinnedVertices view(bool normals, bool tangents) {
-    SkinnedVertices v{px, py, pz, {}, {}, {}, {}, {}, {}};
+    SkinnedVertices v{.px = px, .py = py, .pz = pz};
     if (normals) v.nx = nx, v.ny = ny, v.nz = nz;
     if (tangents) v.tx = tx, v.ty = ty, v.tz = tz;
     return v;
@@ -205,7 +205,39 @@ TEST(SkinContract, JobsThatCannotRunAreRefusedWithReasons) {
   // Disjoint parts of one buffer are fine: outputs over [first, first + count) only.
   std::vector<float> one(30);
   job = good;
-  job.out = {std::span<float>(one).subspan(0, 10), std::span<float>(one).subspan(10, 10), std::span<float>(one).subspan(20, 10), {}, {}, {}, {}, {}, {}};
+  job.out = {.px = std::span<float>(one).subspan(0, 10), .py = std::span<float>(one).subspan(10, 10), .pz = std::span<float>(one).subspan(20, 10)};
+  EXPECT_TRUE(job.validate().ok());
+  // Rows: three floats a vertex, in place of a quantity's arrays, over [3 first, 3 (first + count)).
+  std::vector<float> rows(60);
+  const std::span<float> positions = std::span<float>(rows).subspan(0, 30), normals = std::span<float>(rows).subspan(30);
+  job = good;
+  job.out.positions = positions;
+  refused(job, "positions given both as rows and as arrays (px, py, pz)");
+  job.out.px = job.out.py = job.out.pz = {};
+  EXPECT_TRUE(job.validate().ok());
+  job.out.normals = normals;
+  refused(job, "normals given both as rows and as arrays (nx, ny, nz)");
+  job.out.nx = job.out.ny = job.out.nz = {};
+  EXPECT_TRUE(job.validate().ok());  // both quantities as rows, in one buffer
+  job.out.positions = positions.first(29);
+  refused(job, "the rows of positions are shorter than the vertex range (3 floats a vertex)");
+  job.first = 1, job.count = 9;  // rows start at vertex 0, so the range's end decides
+  refused(job, "the rows of positions are shorter than the vertex range");
+  job.first = 0, job.count = 9;
+  EXPECT_TRUE(job.validate().ok());
+  job = good;
+  job.out.px = job.out.py = job.out.pz = {};
+  job.out.positions = std::span<float>(rows).subspan(1, 30);  // vertex 9's rows hold normal 0's x
+  job.out.nx = std::span<float>(rows).subspan(30, 10);
+  refused(job, "two output arrays overlap");
+  job.out.nx = out.nx, job.out.positions = positions;
+  job.out.tangents = normals;  // the skin has no tangents
+  refused(job, "tangents requested but the skin has none");
+  job.out.tangents = {};
+  job.out.nx = job.out.ny = job.out.nz = {};
+  job.out.normals = std::span<float>(rows).subspan(27);  // normal 0 is position 9
+  refused(job, "two output arrays overlap");
+  job.first = 0, job.count = 9;  // not in [0, 9)
   EXPECT_TRUE(job.validate().ok());
 }
 
@@ -526,10 +558,20 @@ TEST(Skinning, ThreadsRefuseJobsThatWriteTheSameElements) {
                       "skinning job 1: the palette has 12 bones, the skin 11"));
   EXPECT_TRUE(refused({{&skin, &palette, SkinningMethod::dqs, all, 0, 100}, {&skin, &palette, SkinningMethod::dqs, all, 0, 100}},
                       "skinning jobs 0 and 1 write the same output elements"));
+  // Rows: job 1 writes vertices [99, 200), whose rows start inside job 0's [0, 100).
+  std::vector<float> rows(3 * n, fill);
+  const SkinnedVertices as_rows{.positions = rows};
+  EXPECT_TRUE(refused({{&skin, &palette, SkinningMethod::dqs, as_rows, 0, 100}, {&skin, &palette, SkinningMethod::dqs, as_rows, 99, 101}},
+                      "skinning jobs 0 and 1 write the same output elements"));
+  for (float x : rows) ASSERT_TRUE(std::isnan(x)) << "refused, but wrote " << x;
   EXPECT_TRUE(pool.run(std::span<const SkinningJob>{}).ok());
-  const std::vector<SkinningJob> touching{{&skin, &palette, SkinningMethod::dqs, all, 2500, n - 2500}, {&skin, &palette, SkinningMethod::dqs, all, 0, 2500}};
+  const std::vector<SkinningJob> touching{{&skin, &palette, SkinningMethod::dqs, all, 2500, n - 2500}, {&skin, &palette, SkinningMethod::dqs, all, 0, 2500},
+                                          {&skin, &palette, SkinningMethod::dqs, as_rows, 2500, n - 2500}, {&skin, &palette, SkinningMethod::dqs, as_rows, 0, 2500}};
   ASSERT_TRUE(pool.run(touching).ok());
-  for (float x : out.px) ASSERT_FALSE(std::isnan(x));
+  for (std::size_t v = 0; v < n; ++v) {
+    ASSERT_FALSE(std::isnan(out.px[v]));
+    ASSERT_EQ(Vec3<float>(rows[3 * v], rows[3 * v + 1], rows[3 * v + 2]), out.p(v)) << "vertex " << v;
+  }
 }
 
 TEST(Skinning, TangentsRotateWithTheBone) {
@@ -617,9 +659,44 @@ std::vector<DualQuaternion<double>> antipodal_pose(Random& rng, std::size_t bone
   return pose;
 }
 
+/// A job over [first, first + count) whose outputs are rows (one float past a vector's start, so
+/// that no row is aligned), all three quantities or with normals as arrays, on `threads` threads
+/// with parts of 16 vertices and more; the rows copied back into arrays. Rows outside the range
+/// must keep their sentinel, and the arrays there stay 0 as in an Output's other runs.
+Output run_into_rows(const Skin& skin, const SkinPalette& palette, SkinningMethod m, std::size_t first, std::size_t count,
+                     bool normals_as_arrays, unsigned threads) {
+  const std::size_t n = skin.vertex_count();
+  const std::uint32_t sentinel = 0xffc0ffeeu;  // a NaN's bits
+  std::vector<std::uint32_t> bits[3];
+  std::span<float> rows[3];
+  for (std::size_t q = 0; q < 3; ++q) {
+    bits[q].assign(3 * n + 2, sentinel);
+    rows[q] = std::span<float>(reinterpret_cast<float*>(bits[q].data()) + 1, 3 * n);
+  }
+  Output o(n);
+  SkinnedVertices view{.positions = rows[0], .tangents = rows[2]};
+  if (normals_as_arrays)
+    view.nx = o.nx, view.ny = o.ny, view.nz = o.nz;
+  else
+    view.normals = rows[1];
+  const Status s = SkinningThreads(threads, 16).run({&skin, &palette, m, view, first, count});
+  EXPECT_TRUE(s.ok()) << s.error().message;
+  for (std::size_t q = 0; q < 3; ++q) {
+    if (q == 1 && normals_as_arrays) continue;
+    for (std::size_t i = 0; i < bits[q].size(); ++i)
+      if (i < 1 + 3 * first || i >= 1 + 3 * (first + count)) {
+        EXPECT_EQ(bits[q][i], sentinel) << "rows of quantity " << q << ", float " << i << " (written outside the range)";
+      }
+    for (std::size_t v = first; v < first + count; ++v)
+      for (std::size_t c = 0; c < 3; ++c) (o.*Output::parts[3 * q + c])[v] = rows[q][3 * v + c];
+  }
+  return o;
+}
+
 // Every vector path performs the scalar path's operations in the same order without fused
 // multiply-adds, so the documented tolerance is zero: bit for bit, for every method, slot count
-// 1 to 8, tails (counts and starts that are no multiple of the width), scaled and antipodal bones.
+// 1 to 8, tails (counts and starts that are no multiple of the width), scaled and antipodal bones;
+// and into rows (SkinnedVertices::positions, normals, tangents) as into arrays.
 TEST(SkinningTargets, EveryTargetIsTheScalarPathBitForBit) {
   Random rng(21);
   for (bool scaled : {false, true})
@@ -652,10 +729,14 @@ TEST(SkinningTargets, EveryTargetIsTheScalarPathBitForBit) {
             Output aligned(n);
             for (std::size_t k = 0; k < std::size(Output::parts); ++k) std::copy(a[k].begin(), a[k].end(), (aligned.*Output::parts[k]).begin());
             results.push_back(std::move(aligned));
+            results.push_back(run_into_rows(skin, palette, m, first, n - first - 2, false, 1));
+            results.push_back(run_into_rows(skin, palette, m, first, n - first - 2, true, 2));
           });
-          // results: each target's run, then its run into ComponentArrays; [0] is the scalar path's.
+          // results: each target's run, its run into ComponentArrays, into rows, into rows and
+          // arrays; [0] is the scalar path's.
+          const char* const runs[] = {"", ", into ComponentArrays on two threads", ", into rows", ", into rows and normal arrays on two threads"};
           for (std::size_t t = 1; t < results.size(); ++t) {
-            SCOPED_TRACE(std::string(simd::to_string(simd::Target(t / 2))) + (t % 2 ? ", into ComponentArrays on two threads" : ""));
+            SCOPED_TRACE(std::string(simd::to_string(simd::Target(t / 4))) + runs[t % 4]);
             for (auto part : Output::parts)
               for (std::size_t v = 0; v < n; ++v)
                 ASSERT_EQ(std::memcmp(&(results[t].*part)[v], &(results[0].*part)[v], sizeof(float)), 0)

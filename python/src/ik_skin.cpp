@@ -329,21 +329,17 @@ void bind_skin_types(py::module_& m) {
       throw py::value_error("SkinningMethod.cor needs centres of rotation: build the skin with triangles");
     const std::size_t n = skin.vertex_count();
     py::array_t<float> out({static_cast<py::ssize_t>(n), py::ssize_t{3}});
-    // The kernels write component arrays; these need no zeroing, as every element is written.
-    const auto components = std::make_unique_for_overwrite<float[]>(3 * n);
-    const std::span<float> px(components.get(), n), py_(px.data() + n, n), pz(py_.data() + n, n);
     {
       py::gil_scoped_release release;
       dq::SkinPalette palette(skin.bone_count());
       dq::update_palette(skin, bw, palette);
-      dq::SkinningJob job{&skin, &palette, method, {px, py_, pz, {}, {}, {}, {}, {}, {}}, 0, n};
+      dq::SkinningJob job{&skin, &palette, method, {.positions = {out.mutable_data(), 3 * n}}, 0, n};  // written as rows
       if (pool) {
         check((*pool)->run([&](dq::SkinningThreads& threads) { return threads.run(job); }));  // validates first
       } else {
         check(job.validate());
         job.run();
       }
-      dq::simd::from_rows({px.data(), py_.data(), pz.data()}, {as_values<dq::Vec3<float>>(out.mutable_data()), n});
     }
     return out;
   }, py::arg("skin"), py::arg("bone_world"), py::arg("method") = dq::SkinningMethod::dqs, py::arg("pool") = py::none(),

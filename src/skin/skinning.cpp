@@ -1,6 +1,7 @@
 #include "dq/skin/skinning.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cfenv>
 #include <cmath>
@@ -44,31 +45,59 @@ void update_palette(const Skin& skin, std::span<const DualQuaternion<double>> bo
   }
 }
 
+namespace {
+
+/// What a job writes of each output: [first, first + count) of an array, [3 first, 3 (first +
+/// count)) of rows; empty for an output not given. Precondition: the outputs are long enough.
+std::array<std::span<float>, 12> written_parts(const SkinnedVertices& o, std::size_t first, std::size_t count) {
+  std::array<std::span<float>, 12> parts;
+  std::size_t k = 0;
+  for (std::span<float> a : {o.px, o.py, o.pz, o.nx, o.ny, o.nz, o.tx, o.ty, o.tz}) parts[k++] = a.empty() ? a : a.subspan(first, count);
+  for (std::span<float> r : {o.positions, o.normals, o.tangents}) parts[k++] = r.empty() ? r : r.subspan(3 * first, 3 * count);
+  return parts;
+}
+
+/// One quantity's output, as three arrays or as rows, checked against the vertex range's end.
+/// `requested` is set when it is given (and so will be written).
+Status check_output(const std::string& quantity, const std::string& arrays, std::span<float> x, std::span<float> y,
+                    std::span<float> z, std::span<float> rows, std::size_t end, bool& requested) {
+  const bool all = !x.empty() && !y.empty() && !z.empty(), any = !x.empty() || !y.empty() || !z.empty();
+  requested = any || !rows.empty();
+  if (any && !rows.empty()) return Error{"skinning job: " + quantity + " given both as rows and as arrays (" + arrays + ")"};
+  if (any && !all) return Error{"skinning job: " + quantity + " need all three arrays (" + arrays + ") or none"};
+  if (!rows.empty() && rows.size() / 3 < end)
+    return Error{"skinning job: the rows of " + quantity + " are shorter than the vertex range (3 floats a vertex)"};
+  return {};
+}
+
+}  // namespace
+
 Status SkinningJob::validate() const {
   if (!skin || !palette) return Error{"skinning job: no skin or no palette"};
   if (palette->size() != skin->bone_count()) return Error{"skinning job: the palette has " + std::to_string(palette->size()) + " bones, the skin " + std::to_string(skin->bone_count())};
   if (first > skin->vertex_count() || count > skin->vertex_count() - first) return Error{"skinning job: the vertex range exceeds the skin"};
   const std::size_t end = first + count;
-  for (auto s : {out.px, out.py, out.pz})
-    if (s.size() < end) return Error{"skinning job: a position array is shorter than the vertex range"};
-  // Normals and tangents are written as triples: all three arrays, or none (run() decides by x).
-  const auto partial = [](std::span<float> x, std::span<float> y, std::span<float> z) {
-    return !(x.empty() == y.empty() && y.empty() == z.empty());
+  bool positions = false, normals = false, tangents = false;
+  if (Status s = check_output("positions", "px, py, pz", out.px, out.py, out.pz, out.positions, end, positions); !s) return s;
+  if (out.positions.empty())  // positions are always written: as rows, or as arrays (empty ones only for an empty range)
+    for (auto a : {out.px, out.py, out.pz})
+      if (a.size() < end) return Error{"skinning job: a position array is shorter than the vertex range"};
+  // Normals and tangents are written as triples: all three arrays, or rows, or none.
+  if (Status s = check_output("normals", "nx, ny, nz", out.nx, out.ny, out.nz, out.normals, end, normals); !s) return s;
+  if (Status s = check_output("tangents", "tx, ty, tz", out.tx, out.ty, out.tz, out.tangents, end, tangents); !s) return s;
+  const auto short_of = [end](std::span<float> x, std::span<float> y, std::span<float> z) {
+    return !x.empty() && (x.size() < end || y.size() < end || z.size() < end);
   };
-  if (partial(out.nx, out.ny, out.nz)) return Error{"skinning job: normals need all three arrays (nx, ny, nz) or none"};
-  if (partial(out.tx, out.ty, out.tz)) return Error{"skinning job: tangents need all three arrays (tx, ty, tz) or none"};
-  for (auto s : {out.nx, out.ny, out.nz})
-    if (!s.empty() && (s.size() < end || !skin->has_normals())) return Error{"skinning job: normals requested but the skin has none or an array is too short"};
-  for (auto s : {out.tx, out.ty, out.tz})
-    if (!s.empty() && (s.size() < end || !skin->has_tangents())) return Error{"skinning job: tangents requested but the skin has none or an array is too short"};
-  // Each output's part [first, end) is written once per vertex: two parts that overlap would
-  // receive each other's values.
-  const std::span<float> written[] = {out.px, out.py, out.pz, out.nx, out.ny, out.nz, out.tx, out.ty, out.tz};
-  for (std::size_t i = 0; i < std::size(written); ++i)
-    for (std::size_t j = i + 1; j < std::size(written); ++j)
-      if (!written[i].empty() && !written[j].empty() &&
-          overlaps(written[i].subspan(first, count), written[j].subspan(first, count)))
-        return Error{"skinning job: two output arrays overlap in the vertex range"};
+  if (normals && (!skin->has_normals() || short_of(out.nx, out.ny, out.nz)))
+    return Error{"skinning job: normals requested but the skin has none or an array is too short"};
+  if (tangents && (!skin->has_tangents() || short_of(out.tx, out.ty, out.tz)))
+    return Error{"skinning job: tangents requested but the skin has none or an array is too short"};
+  // Each output's part is written once per vertex: two parts that overlap would receive each
+  // other's values.
+  const auto written = written_parts(out, first, count);
+  for (std::size_t i = 0; i < written.size(); ++i)
+    for (std::size_t j = i + 1; j < written.size(); ++j)
+      if (overlaps(written[i], written[j])) return Error{"skinning job: two output arrays overlap in the vertex range"};
   if (method == SkinningMethod::cor && !skin->has_centers()) return Error{"skinning job: CoR needs a skin built with centres of rotation"};
   return {};
 }
@@ -155,6 +184,7 @@ struct Streams {
   const float *weight, *mats, *dqs, *scales;
   const float *px, *py, *pz, *nx, *ny, *nz, *tx, *ty, *tz, *cx, *cy, *cz;
   float *opx, *opy, *opz, *onx, *ony, *onz, *otx, *oty, *otz;
+  float *op, *on, *ot;  ///< rows (x, y, z a vertex), where a quantity is written as rows; else null
   bool normals, tangents, scaled, centers;
   Streams(const Skin& skin, const SkinPalette& pal, const SkinnedVertices& out, SkinningMethod m)
       : slots(skin.slots()), stride(skin.slot_stride()), bone(skin.slot_bones(0).data()), weight(skin.slot_weights(0).data()),
@@ -162,7 +192,8 @@ struct Streams {
         px(skin.px().data()), py(skin.py().data()), pz(skin.pz().data()), nx(skin.nx().data()), ny(skin.ny().data()), nz(skin.nz().data()),
         tx(skin.tx().data()), ty(skin.ty().data()), tz(skin.tz().data()), cx(skin.cx().data()), cy(skin.cy().data()), cz(skin.cz().data()),
         opx(out.px.data()), opy(out.py.data()), opz(out.pz.data()), onx(out.nx.data()), ony(out.ny.data()), onz(out.nz.data()),
-        otx(out.tx.data()), oty(out.ty.data()), otz(out.tz.data()), normals(!out.nx.empty()), tangents(!out.tx.empty()),
+        otx(out.tx.data()), oty(out.ty.data()), otz(out.tz.data()), op(out.positions.data()), on(out.normals.data()),
+        ot(out.tangents.data()), normals(!out.nx.empty() || on), tangents(!out.tx.empty() || ot),
         // The linear phase (Kavan's two-phase method) is needed by DQS and CoR only when a bind scales.
         scaled(m != SkinningMethod::lbs && skin.has_scale_shear()), centers(m == SkinningMethod::cor) {}
 
@@ -172,16 +203,23 @@ struct Streams {
   /// memory's bandwidth (docs/skinning.md).
   [[gnu::always_inline]] void prefetch(std::size_t v) const {
     auto read = [v](const float* p) __attribute__((always_inline)) { __builtin_prefetch(p + v, 0, 3); };
-    auto write = [v](float* p) __attribute__((always_inline)) { __builtin_prefetch(p + v, 1, 3); };
+    // An output's 16 vertices: a cache line of each array, or three of rows.
+    auto write = [v](float* rows, float* x, float* y, float* z) __attribute__((always_inline)) {
+      if (rows) {
+        for (std::size_t line = 0; line < 3; ++line) __builtin_prefetch(rows + 3 * v + 16 * line, 1, 3);
+      } else {
+        for (float* p : {x, y, z}) __builtin_prefetch(p + v, 1, 3);
+      }
+    };
     for (const float* p : {px, py, pz}) read(p);
-    for (float* p : {opx, opy, opz}) write(p);
+    write(op, opx, opy, opz);
     if (normals) {
       for (const float* p : {nx, ny, nz}) read(p);
-      for (float* p : {onx, ony, onz}) write(p);
+      write(on, onx, ony, onz);
     }
     if (tangents) {
       for (const float* p : {tx, ty, tz}) read(p);
-      for (float* p : {otx, oty, otz}) write(p);
+      write(ot, otx, oty, otz);
     }
     if (centers)
       for (const float* p : {cx, cy, cz}) read(p);
@@ -197,6 +235,7 @@ struct ScalarLanes {
   using V = float;
   [[gnu::always_inline]] static V load(const float* p) { return *p; }
   [[gnu::always_inline]] static void store(float* p, V x) { *p = x; }
+  [[gnu::always_inline]] static void store_points(float* p, V x, V y, V z) { p[0] = x, p[1] = y, p[2] = z; }
   /// out[c] = table[stride * bones[0] + offset + c] for c < C.
   template <int C>
   [[gnu::always_inline]] static void rows(const float* table, std::size_t stride, const std::uint32_t* bones, std::size_t offset, V* out) {
@@ -246,12 +285,17 @@ template <SkinningMethod M, std::size_t K, class P>
   }
   if constexpr (M != SkinningMethod::dqs) blend_matrices(s.mats, mat);
   if (s.scaled) blend_matrices(s.scales, lin);
-  auto write = [v](V3<V> x, float* ox, float* oy, float* oz) __attribute__((always_inline)) { P::store(ox + v, x.x), P::store(oy + v, x.y), P::store(oz + v, x.z); };
+  auto write = [v](V3<V> x, float* rows, float* ox, float* oy, float* oz) __attribute__((always_inline)) {
+    if (rows)
+      P::store_points(rows + 3 * v, x.x, x.y, x.z);
+    else
+      P::store(ox + v, x.x), P::store(oy + v, x.y), P::store(oz + v, x.z);
+  };
   auto read = [v](const float* x, const float* y, const float* z) __attribute__((always_inline)) { return V3<V>{P::load(x + v), P::load(y + v), P::load(z + v)}; };
   if constexpr (M == SkinningMethod::lbs) {
-    write(affine(mat, p), s.opx, s.opy, s.opz);
-    if (s.normals) write(unit(cofactor(mat, read(s.nx, s.ny, s.nz))), s.onx, s.ony, s.onz);
-    if (s.tangents) write(unit(linear(mat, read(s.tx, s.ty, s.tz))), s.otx, s.oty, s.otz);
+    write(affine(mat, p), s.op, s.opx, s.opy, s.opz);
+    if (s.normals) write(unit(cofactor(mat, read(s.nx, s.ny, s.nz))), s.on, s.onx, s.ony, s.onz);
+    if (s.tangents) write(unit(linear(mat, read(s.tx, s.ty, s.tz))), s.ot, s.otx, s.oty, s.otz);
   } else {
     // The blend is not normalized: with q = (w, u), |q|² = n2, the unit rotation's action is
     // v + (2/n2) (w (u × v) + u × (u × v)) and the translation (2/n2) (w d⃗ − d_w u + u × d⃗).
@@ -266,20 +310,20 @@ template <SkinningMethod M, std::size_t K, class P>
     if constexpr (M == SkinningMethod::dqs) {
       const V3<V> d{dq[5], dq[6], dq[7]};
       const V3<V> t = scale(add(add(scale(d, w), scale(u, -dq[4])), cross3(u, d)), k);
-      write(add(rotate_blend(s.scaled ? linear(lin, p) : p), t), s.opx, s.opy, s.opz);
+      write(add(rotate_blend(s.scaled ? linear(lin, p) : p), t), s.op, s.opx, s.opy, s.opz);
     } else {
       // CoR: rotate about the centre c by the blended rotation, move c by the blended matrix.
       const V3<V> c = read(s.cx, s.cy, s.cz);
       const V3<V> rel{p.x - c.x, p.y - c.y, p.z - c.z};
-      write(add(rotate_blend(s.scaled ? linear(lin, rel) : rel), affine(mat, c)), s.opx, s.opy, s.opz);
+      write(add(rotate_blend(s.scaled ? linear(lin, rel) : rel), affine(mat, c)), s.op, s.opx, s.opy, s.opz);
     }
     if (s.normals) {
       const V3<V> nv = read(s.nx, s.ny, s.nz);
-      write(rotate_blend(s.scaled ? unit(cofactor(lin, nv)) : nv), s.onx, s.ony, s.onz);
+      write(rotate_blend(s.scaled ? unit(cofactor(lin, nv)) : nv), s.on, s.onx, s.ony, s.onz);
     }
     if (s.tangents) {
       const V3<V> tv = read(s.tx, s.ty, s.tz);
-      write(rotate_blend(s.scaled ? unit(linear(lin, tv)) : tv), s.otx, s.oty, s.otz);
+      write(rotate_blend(s.scaled ? unit(linear(lin, tv)) : tv), s.ot, s.otx, s.oty, s.otz);
     }
   }
 }
@@ -320,6 +364,8 @@ struct VectorLanes {
   using V = typename VectorOf<N>::type;
   [[gnu::always_inline]] static V load(const float* p) { return load_as<V>(p); }
   [[gnu::always_inline]] static void store(float* p, V x) { std::memcpy(p, &x, sizeof x); }
+  /// Lane j's x, y, z to p[3 j + c]: N rows in three vector stores.
+  [[gnu::always_inline]] static void store_points(float* p, V x, V y, V z) { Points<N>::store(x, y, z, p); }
   /// out[c] lane j = table[stride * bones[j] + offset + c] for c < C (C = 4 or 8): one load of C
   /// floats per lane, then a transpose (load_records).
   template <int C>
@@ -456,14 +502,12 @@ Status SkinningThreads::run(std::span<const SkinningJob> jobs) {
     // Two parts of different jobs could run at once: no element may be written by two jobs.
     written_.clear();
     written_.reserve(9 * jobs.size());  // so that it grows only with the number of jobs
-    for (std::size_t k = 0; k < jobs.size(); ++k) {
-      const SkinnedVertices& o = jobs[k].out;
-      for (std::span<float> a : {o.px, o.py, o.pz, o.nx, o.ny, o.nz, o.tx, o.ty, o.tz})
-        if (!a.empty() && jobs[k].count != 0) {
-          const auto begin = reinterpret_cast<std::uintptr_t>(a.data() + jobs[k].first);
-          written_.push_back({begin, begin + jobs[k].count * sizeof(float), k});
+    for (std::size_t k = 0; k < jobs.size(); ++k)
+      for (std::span<float> part : written_parts(jobs[k].out, jobs[k].first, jobs[k].count))
+        if (!part.empty()) {
+          const auto begin = reinterpret_cast<std::uintptr_t>(part.data());
+          written_.push_back({begin, begin + part.size_bytes(), k});
         }
-    }
     std::sort(written_.begin(), written_.end(), [](const Written& x, const Written& y) { return x.begin < y.begin; });
     for (std::size_t i = 1; i < written_.size(); ++i)
       if (written_[i].begin < written_[i - 1].end)

@@ -55,9 +55,14 @@ void update_palette(const Skin& skin, std::span<const DualQuaternion<double>> bo
 /// Skinned output, component arrays of at least `first + count` entries each. Normals and
 /// tangents are written when the spans are non-empty (and the skin has them).
 struct SkinnedVertices {
-  std::span<float> px, py, pz;
-  std::span<float> nx, ny, nz;
-  std::span<float> tx, ty, tz;
+  std::span<float> px{}, py{}, pz{};  // initialized, so that `{.positions = rows}` draws no -Wmissing-field-initializers
+  std::span<float> nx{}, ny{}, nz{};
+  std::span<float> tx{}, ty{}, tz{};
+  /// Or a quantity as rows, in place of its three arrays: vertex i's x, y, z at [3 i, 3 i + 3), of
+  /// at least 3 (first + count) floats (a NumPy (V, 3) float32 array; a GPU buffer of one vertex
+  /// attribute). The kernels write rows as they write arrays, with the same values bit for bit,
+  /// and no pass over the output after them.
+  std::span<float> positions{}, normals{}, tangents{};
 };
 
 struct SkinningJob {
@@ -70,7 +75,8 @@ struct SkinningJob {
 
   /// Says why the job cannot run: no skin or palette, a palette of another size, a range past
   /// the skin, output spans too short, normals or tangents with one or two of their three spans,
-  /// output spans that overlap in the range, CoR without centres.
+  /// a quantity given both as rows and as arrays, output spans that overlap in the range, CoR
+  /// without centres.
   Status validate() const;
   /// Runs on the calling thread. Precondition: validate() succeeds (checked).
   void run() const;
