@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <thread>
 #include <cstdlib>
@@ -202,6 +203,10 @@ TEST(SkinContract, JobsThatCannotRunAreRefusedWithReasons) {
   job = good;
   job.out.pz = std::span<float>(out.pz).subspan(0, 9);
   refused(job, "a position array is shorter than the vertex range");
+  job.out.py = job.out.pz = {};
+  refused(job, "positions need all three arrays (px, py, pz) or rows");
+  job.first = job.count = 0;  // not even for an empty range
+  refused(job, "positions need all three arrays (px, py, pz) or rows");
   // Disjoint parts of one buffer are fine: outputs over [first, first + count) only.
   std::vector<float> one(30);
   job = good;
@@ -221,6 +226,9 @@ TEST(SkinContract, JobsThatCannotRunAreRefusedWithReasons) {
   EXPECT_TRUE(job.validate().ok());  // both quantities as rows, in one buffer
   job.out.positions = positions.first(29);
   refused(job, "the rows of positions are shorter than the vertex range (3 floats a vertex)");
+  job.out.positions = positions, job.out.normals = normals.first(29);
+  refused(job, "the rows of normals are shorter than the vertex range");
+  job.out.normals = normals, job.out.positions = positions.first(29);
   job.first = 1, job.count = 9;  // rows start at vertex 0, so the range's end decides
   refused(job, "the rows of positions are shorter than the vertex range");
   job.first = 0, job.count = 9;
@@ -239,6 +247,17 @@ TEST(SkinContract, JobsThatCannotRunAreRefusedWithReasons) {
   refused(job, "two output arrays overlap");
   job.first = 0, job.count = 9;  // not in [0, 9)
   EXPECT_TRUE(job.validate().ok());
+  // Empty rows are not given, whatever their pointer: the arrays are written, the rows' buffer
+  // not (and tangents that the skin does not have are not asked for).
+  std::vector<float> untouched(30, -1.0f);
+  job = good;
+  job.out.positions = job.out.normals = job.out.tangents = std::span<float>(untouched).first(0);
+  ASSERT_TRUE(job.validate().ok());
+  job.run();
+  Output expected(10);
+  SkinningJob{&skin, &palette, SkinningMethod::dqs, expected.view(true, false), 0, 10}.run();
+  for (float x : untouched) ASSERT_EQ(x, -1.0f);
+  for (std::size_t v = 0; v < 10; ++v) ASSERT_EQ(out.p(v), expected.p(v)) << "vertex " << v;
 }
 
 TEST(SkinContract, NormalizesOnceAndOrdersCanonically) {
@@ -660,21 +679,23 @@ std::vector<DualQuaternion<double>> antipodal_pose(Random& rng, std::size_t bone
 }
 
 /// A job over [first, first + count) whose outputs are rows (one float past a vector's start, so
-/// that no row is aligned), all three quantities or with normals as arrays, on `threads` threads
+/// that no row is aligned), all three quantities (tangents where the skin has them) or with
+/// normals as arrays, on `threads` threads
 /// with parts of 16 vertices and more; the rows copied back into arrays. Rows outside the range
 /// must keep their sentinel, and the arrays there stay 0 as in an Output's other runs.
 Output run_into_rows(const Skin& skin, const SkinPalette& palette, SkinningMethod m, std::size_t first, std::size_t count,
                      bool normals_as_arrays, unsigned threads) {
   const std::size_t n = skin.vertex_count();
   const std::uint32_t sentinel = 0xffc0ffeeu;  // a NaN's bits
-  std::vector<std::uint32_t> bits[3];
+  std::vector<float> buffers[3];
   std::span<float> rows[3];
   for (std::size_t q = 0; q < 3; ++q) {
-    bits[q].assign(3 * n + 2, sentinel);
-    rows[q] = std::span<float>(reinterpret_cast<float*>(bits[q].data()) + 1, 3 * n);
+    buffers[q].assign(3 * n + 2, std::bit_cast<float>(sentinel));
+    rows[q] = std::span<float>(buffers[q]).subspan(1, 3 * n);
   }
   Output o(n);
-  SkinnedVertices view{.positions = rows[0], .tangents = rows[2]};
+  SkinnedVertices view{.positions = rows[0]};
+  if (skin.has_tangents()) view.tangents = rows[2];
   if (normals_as_arrays)
     view.nx = o.nx, view.ny = o.ny, view.nz = o.nz;
   else
@@ -682,10 +703,10 @@ Output run_into_rows(const Skin& skin, const SkinPalette& palette, SkinningMetho
   const Status s = SkinningThreads(threads, 16).run({&skin, &palette, m, view, first, count});
   EXPECT_TRUE(s.ok()) << s.error().message;
   for (std::size_t q = 0; q < 3; ++q) {
-    if (q == 1 && normals_as_arrays) continue;
-    for (std::size_t i = 0; i < bits[q].size(); ++i)
+    if ((q == 1 && normals_as_arrays) || (q == 2 && !skin.has_tangents())) continue;
+    for (std::size_t i = 0; i < buffers[q].size(); ++i)
       if (i < 1 + 3 * first || i >= 1 + 3 * (first + count)) {
-        EXPECT_EQ(bits[q][i], sentinel) << "rows of quantity " << q << ", float " << i << " (written outside the range)";
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(buffers[q][i]), sentinel) << "rows of quantity " << q << ", float " << i << " (written outside the range)";
       }
     for (std::size_t v = first; v < first + count; ++v)
       for (std::size_t c = 0; c < 3; ++c) (o.*Output::parts[3 * q + c])[v] = rows[q][3 * v + c];
@@ -744,6 +765,28 @@ TEST(SkinningTargets, EveryTargetIsTheScalarPathBitForBit) {
           }
         }
     }
+}
+
+// Rows over a range long enough for the vector loop's prefetch (128 vertices ahead, which the
+// skins above are too short for), on every target: the arrays' values, bit for bit.
+TEST(SkinningTargets, RowsOfLongRangesAreTheArrays) {
+  Random rng(23);
+  const Skin skin = *build_skin(random_skin(rng, 3000, 11, 4));
+  SkinPalette palette(skin.bone_count());
+  update_palette(skin, random_pose(rng, skin.bone_count()), palette);
+  const std::size_t first = 5, count = 2990;
+  for_each_target([&](simd::Target t) {
+    for (SkinningMethod m : {SkinningMethod::lbs, SkinningMethod::dqs}) {
+      SCOPED_TRACE(std::string(simd::to_string(t)) + " method " + std::to_string(int(m)));
+      Output arrays(skin.vertex_count());
+      ASSERT_TRUE(SkinningThreads(1).run({&skin, &palette, m, arrays.view(true, false), first, count}).ok());
+      const Output rows = run_into_rows(skin, palette, m, first, count, false, 1);
+      for (std::size_t k = 0; k < 6; ++k)
+        for (std::size_t v = 0; v < skin.vertex_count(); ++v)
+          ASSERT_EQ(std::bit_cast<std::uint32_t>((rows.*Output::parts[k])[v]), std::bit_cast<std::uint32_t>((arrays.*Output::parts[k])[v]))
+              << "array " << k << ", vertex " << v;
+    }
+  });
 }
 
 // The antipodal pose through the vector paths against the direct reading of the policy: a vertex

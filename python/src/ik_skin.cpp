@@ -37,6 +37,15 @@ std::span<double> inout_vector(py::array& a, std::size_t n, const char* name) {
   return {static_cast<double*>(a.mutable_data()), n};
 }
 
+/// A writable C-contiguous float32 array of shape (rows, 3), taken in place (skin_vertices writes its rows).
+py::array_t<float> inout_rows(py::handle obj, std::size_t rows, const char* name) {
+  if (py::isinstance<py::array_t<float>>(obj)) {
+    auto a = py::reinterpret_borrow<py::array_t<float>>(obj);
+    if (a.ndim() == 2 && static_cast<std::size_t>(a.shape(0)) == rows && a.shape(1) == 3 && (a.flags() & py::array::c_style) && a.writeable()) return a;
+  }
+  throw py::value_error(std::string(name) + ": expected a writable C-contiguous float32 array of shape (" + std::to_string(rows) + ", 3), one row per vertex");
+}
+
 /// A worker's longest spin that Python may ask for: more is most likely seconds taken for microseconds.
 constexpr std::size_t kMaxSpinMicroseconds = 1'000'000;
 /// The most threads a Python SkinningThreads starts: each is a system thread, started at once.
@@ -317,7 +326,8 @@ void bind_skin_types(py::module_& m) {
         return "SkinningThreads(" + std::to_string(p.size()) + ", min_part=" + std::to_string(p.min_part()) +
                ", spin_microseconds=" + std::to_string(p.spin_microseconds()) + ")";
       });
-  m.def("skin_vertices", [](const dq::Skin& skin, py::handle bone_world, dq::SkinningMethod method, std::optional<SkinningPool*> pool) {
+  m.def("skin_vertices", [](const dq::Skin& skin, py::handle bone_world, dq::SkinningMethod method, std::optional<SkinningPool*> pool,
+                            py::handle out_obj) {
     const auto bw = dual_quaternions_from_numpy(bone_world, "bone_world");
     if (bw.size() != skin.bone_count())
       throw py::value_error("bone_world: expected shape (" + std::to_string(skin.bone_count()) + ", 8), one per bone");
@@ -328,7 +338,8 @@ void bind_skin_types(py::module_& m) {
     if (method == dq::SkinningMethod::cor && !skin.has_centers())
       throw py::value_error("SkinningMethod.cor needs centres of rotation: build the skin with triangles");
     const std::size_t n = skin.vertex_count();
-    py::array_t<float> out({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+    // A new array, or the caller's, written in place (a frame's buffer reused: no allocation).
+    auto out = out_obj.is_none() ? py::array_t<float>({static_cast<py::ssize_t>(n), py::ssize_t{3}}) : inout_rows(out_obj, n, "out");
     {
       py::gil_scoped_release release;
       dq::SkinPalette palette(skin.bone_count());
@@ -343,8 +354,10 @@ void bind_skin_types(py::module_& m) {
     }
     return out;
   }, py::arg("skin"), py::arg("bone_world"), py::arg("method") = dq::SkinningMethod::dqs, py::arg("pool") = py::none(),
+     py::arg("out") = py::none(),
      "(V, 3) float32 skinned positions for (B, 8) bone world transforms; on `pool` (a SkinningThreads) if given, "
-     "with the same result bit for bit.");
+     "with the same result bit for bit. `out`: a writable C-contiguous float32 (V, 3) array to write them into "
+     "(and return) instead of a new one.");
 
   py::class_<dq::SkinnedFrame>(m, "SkinnedFrame")
       .def_property_readonly("positions", [](const dq::SkinnedFrame& f) {

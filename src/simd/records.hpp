@@ -95,8 +95,8 @@ struct Points {
   [[gnu::always_inline]] static void store(vec<N> x, vec<N> y, vec<N> z, float* out) {
     vec<N> r0, r1, r2;
     if constexpr (N == 4) {
-      // In shuffles that take two lanes of each source (shufps, unpcklps: SSE2 has no other), where
-      // GCC 12 compiles pick's general shuffles for SSE2 into slower sequences than a transpose.
+      // Written as shuffles of two lanes from each source (`shufps`, `unpcklps`), which SSE2 has:
+      // GCC 12 compiles pick's general shuffles for SSE2 into sequences slower than a transpose.
       const float4 d = __builtin_shufflevector(x, y, 2, 6, 3, 7);  // x2 y2 x3 y3
       r0 = __builtin_shufflevector(__builtin_shufflevector(x, y, 0, 4, 1, 5), __builtin_shufflevector(z, x, 0, 0, 5, 5), 0, 1, 4, 6);
       r1 = __builtin_shufflevector(__builtin_shufflevector(y, z, 1, 1, 5, 5), d, 0, 2, 4, 5);
@@ -110,7 +110,7 @@ struct Points {
   }
   [[gnu::always_inline]] static void load(const float* in, vec<N>* xyz) {
     const vec<N> a = load_as<vec<N>>(in), b = load_as<vec<N>>(in + N), c = load_as<vec<N>>(in + 2 * N);
-    if constexpr (N == 4) {  // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3; shuffles as in store
+    if constexpr (N == 4) {  // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3; shuffles of store's kind
       xyz[0] = __builtin_shufflevector(__builtin_shufflevector(a, a, 0, 3, 0, 3), __builtin_shufflevector(b, c, 2, 2, 5, 5), 0, 1, 4, 6);
       xyz[1] = __builtin_shufflevector(__builtin_shufflevector(a, b, 1, 1, 4, 4), __builtin_shufflevector(b, c, 3, 3, 6, 6), 0, 2, 4, 6);
       xyz[2] = __builtin_shufflevector(__builtin_shufflevector(a, b, 2, 2, 5, 5), __builtin_shufflevector(c, c, 0, 3, 0, 3), 0, 2, 4, 5);

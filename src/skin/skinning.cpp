@@ -57,16 +57,16 @@ std::array<std::span<float>, 12> written_parts(const SkinnedVertices& o, std::si
   return parts;
 }
 
-/// One quantity's output, as three arrays or as rows, checked against the vertex range's end.
-/// `requested` is set when it is given (and so will be written).
-Status check_output(const std::string& quantity, const std::string& arrays, std::span<float> x, std::span<float> y,
-                    std::span<float> z, std::span<float> rows, std::size_t end, bool& requested) {
+/// One quantity's output, as three arrays or as rows (`or_else`: what else it may be), checked
+/// against the vertex range's end. Allocates only for an error (validate() runs for every job).
+Status check_output(const char* quantity, const char* arrays, const char* or_else, std::span<float> x, std::span<float> y,
+                    std::span<float> z, std::span<float> rows, std::size_t end) {
   const bool all = !x.empty() && !y.empty() && !z.empty(), any = !x.empty() || !y.empty() || !z.empty();
-  requested = any || !rows.empty();
-  if (any && !rows.empty()) return Error{"skinning job: " + quantity + " given both as rows and as arrays (" + arrays + ")"};
-  if (any && !all) return Error{"skinning job: " + quantity + " need all three arrays (" + arrays + ") or none"};
+  const auto refused = [quantity](const std::string& why) { return Error{"skinning job: " + (quantity + why)}; };
+  if (any && !rows.empty()) return refused(" given both as rows and as arrays (" + std::string(arrays) + ")");
+  if (any && !all) return refused(" need all three arrays (" + std::string(arrays) + ") " + or_else);
   if (!rows.empty() && rows.size() / 3 < end)
-    return Error{"skinning job: the rows of " + quantity + " are shorter than the vertex range (3 floats a vertex)"};
+    return Error{"skinning job: the rows of " + std::string(quantity) + " are shorter than the vertex range (3 floats a vertex)"};
   return {};
 }
 
@@ -77,20 +77,19 @@ Status SkinningJob::validate() const {
   if (palette->size() != skin->bone_count()) return Error{"skinning job: the palette has " + std::to_string(palette->size()) + " bones, the skin " + std::to_string(skin->bone_count())};
   if (first > skin->vertex_count() || count > skin->vertex_count() - first) return Error{"skinning job: the vertex range exceeds the skin"};
   const std::size_t end = first + count;
-  bool positions = false, normals = false, tangents = false;
-  if (Status s = check_output("positions", "px, py, pz", out.px, out.py, out.pz, out.positions, end, positions); !s) return s;
+  if (Status s = check_output("positions", "px, py, pz", "or rows", out.px, out.py, out.pz, out.positions, end); !s) return s;
   if (out.positions.empty())  // positions are always written: as rows, or as arrays (empty ones only for an empty range)
     for (auto a : {out.px, out.py, out.pz})
       if (a.size() < end) return Error{"skinning job: a position array is shorter than the vertex range"};
   // Normals and tangents are written as triples: all three arrays, or rows, or none.
-  if (Status s = check_output("normals", "nx, ny, nz", out.nx, out.ny, out.nz, out.normals, end, normals); !s) return s;
-  if (Status s = check_output("tangents", "tx, ty, tz", out.tx, out.ty, out.tz, out.tangents, end, tangents); !s) return s;
+  if (Status s = check_output("normals", "nx, ny, nz", "or rows or none", out.nx, out.ny, out.nz, out.normals, end); !s) return s;
+  if (Status s = check_output("tangents", "tx, ty, tz", "or rows or none", out.tx, out.ty, out.tz, out.tangents, end); !s) return s;
   const auto short_of = [end](std::span<float> x, std::span<float> y, std::span<float> z) {
     return !x.empty() && (x.size() < end || y.size() < end || z.size() < end);
   };
-  if (normals && (!skin->has_normals() || short_of(out.nx, out.ny, out.nz)))
+  if ((!out.nx.empty() || !out.normals.empty()) && (!skin->has_normals() || short_of(out.nx, out.ny, out.nz)))
     return Error{"skinning job: normals requested but the skin has none or an array is too short"};
-  if (tangents && (!skin->has_tangents() || short_of(out.tx, out.ty, out.tz)))
+  if ((!out.tx.empty() || !out.tangents.empty()) && (!skin->has_tangents() || short_of(out.tx, out.ty, out.tz)))
     return Error{"skinning job: tangents requested but the skin has none or an array is too short"};
   // Each output's part is written once per vertex: two parts that overlap would receive each
   // other's values.
@@ -192,10 +191,13 @@ struct Streams {
         px(skin.px().data()), py(skin.py().data()), pz(skin.pz().data()), nx(skin.nx().data()), ny(skin.ny().data()), nz(skin.nz().data()),
         tx(skin.tx().data()), ty(skin.ty().data()), tz(skin.tz().data()), cx(skin.cx().data()), cy(skin.cy().data()), cz(skin.cz().data()),
         opx(out.px.data()), opy(out.py.data()), opz(out.pz.data()), onx(out.nx.data()), ony(out.ny.data()), onz(out.nz.data()),
-        otx(out.tx.data()), oty(out.ty.data()), otz(out.tz.data()), op(out.positions.data()), on(out.normals.data()),
-        ot(out.tangents.data()), normals(!out.nx.empty() || on), tangents(!out.tx.empty() || ot),
+        otx(out.tx.data()), oty(out.ty.data()), otz(out.tz.data()), op(rows(out.positions)), on(rows(out.normals)),
+        ot(rows(out.tangents)), normals(!out.nx.empty() || on), tangents(!out.tx.empty() || ot),
         // The linear phase (Kavan's two-phase method) is needed by DQS and CoR only when a bind scales.
         scaled(m != SkinningMethod::lbs && skin.has_scale_shear()), centers(m == SkinningMethod::cor) {}
+
+  /// Rows given (validate() goes by emptiness, as this does: an empty span may have a pointer).
+  static float* rows(std::span<float> r) { return r.empty() ? nullptr : r.data(); }
 
   /// Asks for the cache lines of vertex v in every stream the kernel reads and writes. With some
   /// twenty streams (a vertex's coordinates, normals and slots, and the outputs) the hardware
@@ -379,7 +381,8 @@ template <SkinningMethod M, int N>
 [[gnu::always_inline]] inline void skin_vectors(const Streams& s, std::size_t b, std::size_t e) {
   std::size_t v = b;
   for (; v + N <= e; v += N) {
-    if ((v - b) % 16 == 0 && v + kPrefetchAhead < e) s.prefetch(v + kPrefetchAhead);
+    // (Only whole 16-vertex blocks in the range: their rows are 48 floats from 3 (v + ahead).)
+    if ((v - b) % 16 == 0 && v + kPrefetchAhead + 16 <= e) s.prefetch(v + kPrefetchAhead);
     skin_block<M, 0, VectorLanes<N>>(s, v);
   }
   for (; v < e; ++v) skin_block<M, 0, ScalarLanes>(s, v);

@@ -290,6 +290,30 @@ def test_skin_vertices_against_numpy(rng):
             dqkit.skin_vertices(skin, bad, dqkit.SkinningMethod.lbs)
 
 
+def test_skin_vertices_into_out(rng):
+    """`out=`: the rows written into the caller's array, which is returned; anything else refused before a write."""
+    skin = small_skin(rng)
+    world, _, _ = random_rigid(rng, skin.bone_count, scale=1.0)
+    V = skin.vertex_count
+    expected = dqkit.skin_vertices(skin, world, dqkit.SkinningMethod.dqs)
+    pool = dqkit.SkinningThreads(2, min_part=16)
+    for p in (None, pool):
+        out = np.full((V, 3), np.nan, dtype=np.float32)
+        assert dqkit.skin_vertices(skin, world, dqkit.SkinningMethod.dqs, pool=p, out=out) is out
+        assert np.array_equal(out.view(np.uint32), expected.view(np.uint32))  # bit for bit
+    wide = np.full((V, 6), np.nan, dtype=np.float32)
+    read_only = np.full((V, 3), np.nan, dtype=np.float32)
+    read_only.setflags(write=False)
+    refused = [np.zeros((V, 3)),  # float64
+               np.zeros((V - 1, 3), dtype=np.float32), np.zeros((V, 4), dtype=np.float32), np.zeros(3 * V, dtype=np.float32),
+               wide[:, ::2],  # every other column: not contiguous
+               np.asfortranarray(np.zeros((V, 3), dtype=np.float32)), read_only, [[0.0] * 3] * V]
+    for bad in refused:
+        with pytest.raises(ValueError, match=rf"out: expected a writable C-contiguous float32 array of shape \({V}, 3\)"):
+            dqkit.skin_vertices(skin, world, out=bad)
+    assert np.isnan(wide).all() and np.isnan(read_only).all()
+
+
 def small_skin(rng, V=200, B=5, K=3):
     """A skin of V vertices with K influences among B bones, and triangles for CoR."""
     positions = rng.uniform(-1, 1, size=(V, 3))

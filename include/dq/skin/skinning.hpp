@@ -52,8 +52,9 @@ struct SkinPalette {
 /// Allocates nothing.
 void update_palette(const Skin& skin, std::span<const DualQuaternion<double>> bone_world, SkinPalette& palette);
 
-/// Skinned output, component arrays of at least `first + count` entries each. Normals and
-/// tangents are written when the spans are non-empty (and the skin has them).
+/// Skinned output: each quantity as component arrays of at least `first + count` entries each, or
+/// as rows (below). Positions are always written; normals and tangents when given (non-empty
+/// spans; the skin must have them).
 struct SkinnedVertices {
   std::span<float> px{}, py{}, pz{};  // initialized, so that `{.positions = rows}` draws no -Wmissing-field-initializers
   std::span<float> nx{}, ny{}, nz{};
@@ -74,9 +75,9 @@ struct SkinningJob {
   std::size_t count = 0;
 
   /// Says why the job cannot run: no skin or palette, a palette of another size, a range past
-  /// the skin, output spans too short, normals or tangents with one or two of their three spans,
-  /// a quantity given both as rows and as arrays, output spans that overlap in the range, CoR
-  /// without centres.
+  /// the skin, output spans too short, a quantity with one or two of its three arrays, or given
+  /// both as rows and as arrays, normals or tangents of a skin without them, outputs that overlap
+  /// in the range, CoR without centres.
   Status validate() const;
   /// Runs on the calling thread. Precondition: validate() succeeds (checked).
   void run() const;
