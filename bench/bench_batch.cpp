@@ -377,6 +377,89 @@ void TransformPointsEigenIsometry3f(benchmark::State& state) {
   state.counters["points_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
 }
 
+// ---- one transform for a cloud of points ---------------------------------------------------------------
+// A point cloud or a mesh moved rigidly: one transform, the points one after another (x, y, z) in
+// and out. Argument 0: 4096 points, hot in cache; 1: 4 × LLC bytes each way, in DRAM. Every peer
+// reads and writes the same two arrays and is checked once, outside the timing, against
+// DualQuaternion::transform_point (every 97th point).
+
+struct Cloud {
+  DualQuaternion<float> q;
+  std::vector<Vec3<float>> in, out;
+  explicit Cloud(std::size_t n) : in(n), out(n) {  // both filled: no page faults in a timed pass
+    std::mt19937 rng(7);
+    std::normal_distribution<float> g;
+    q = DualQuaternion<float>::from_rotation_translation(Quaternion<float>(0.3f, -0.5f, 0.7f, 0.1f).normalized(), {1.5f, -2.0f, 0.25f});
+    for (Vec3<float>& p : in) p = {g(rng), g(rng), g(rng)};
+  }
+};
+Cloud& cloud(benchmark::State& state) {
+  if (state.range(0) == 0) {
+    static Cloud hot(4096);
+    return hot;
+  }
+  static Cloud dram(dram_floats() / 3);
+  return dram;
+}
+/// The timing loop of a cloud case, its check and counters (24 bytes a point: 12 in, 12 out).
+template <class Move>
+void time_cloud(benchmark::State& state, Move move) {
+  Cloud& c = cloud(state);
+  const std::size_t n = c.in.size();
+  move(c);  // untimed: see warm_up_note
+  for (auto _ : state) {
+    move(c);
+    benchmark::DoNotOptimize(c.out.data());
+    benchmark::ClobberMemory();
+  }
+  for (std::size_t i = 0; i < n; i += 97) {
+    const Vec3<float> want = c.q.transform_point(c.in[i]);
+    if (norm(c.out[i] - want) > 1e-5f * (1 + norm(want))) return state.SkipWithError("the result differs from transform_point");
+  }
+  state.counters["points_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * n), benchmark::Counter::kIsRate);
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations() * n * 24));
+  if (state.range(0) == 1 && copy_bandwidth() > 0)
+    state.counters["roofline"] = benchmark::Counter(static_cast<double>(state.iterations() * n * 24) / copy_bandwidth(), benchmark::Counter::kIsRate);
+}
+void PointCloudDispatched(benchmark::State& state) {
+  state.SetLabel(std::string(simd::to_string(simd::current_target())));
+  time_cloud(state, [](Cloud& c) { simd::transform_points(c.q, c.in, c.out); });
+}
+/// What users of dqkit's one-at-a-time type write.
+void PointCloudScalar(benchmark::State& state) {
+  time_cloud(state, [](Cloud& c) {
+    for (std::size_t i = 0; i < c.in.size(); ++i) c.out[i] = c.q.transform_point(c.in[i]);
+  });
+}
+/// Eigen, point by point (an Isometry3f times each Vector3f, mapped onto the same floats).
+void PointCloudEigenIsometry3f(benchmark::State& state) {
+  const Eigen::Isometry3f m = eigen::to_isometry(cloud(state).q);
+  time_cloud(state, [&m](Cloud& c) {
+    for (std::size_t i = 0; i < c.in.size(); ++i) Eigen::Vector3f::Map(&c.out[i].x) = m * Eigen::Vector3f::Map(&c.in[i].x);
+  });
+}
+/// Eigen's bulk form: the points as the columns of a 3 × n matrix, R P then t added to every
+/// column (two passes, each vectorized by Eigen).
+void PointCloudEigenMatrix3Xf(benchmark::State& state) {
+  const Eigen::Isometry3f m = eigen::to_isometry(cloud(state).q);
+  time_cloud(state, [&m](Cloud& c) {
+    const auto n = static_cast<Eigen::Index>(c.in.size());
+    Eigen::Map<Eigen::Matrix3Xf> out(&c.out[0].x, 3, n);
+    out.noalias() = m.linear() * Eigen::Map<const Eigen::Matrix3Xf>(&c.in[0].x, 3, n);
+    out.colwise() += m.translation();
+  });
+}
+/// GLM, point by point: a mat4 times each point as a vec4 (w = 1).
+void PointCloudGlmMat4(benchmark::State& state) {
+  const glm::mat4 m = glm_interop::to_glm(to_mat4(cloud(state).q));
+  time_cloud(state, [&m](Cloud& c) {
+    for (std::size_t i = 0; i < c.in.size(); ++i) {
+      const glm::vec4 r = m * glm::vec4(c.in[i].x, c.in[i].y, c.in[i].z, 1.0f);
+      c.out[i] = {r.x, r.y, r.z};
+    }
+  });
+}
+
 /// 4096 pairs of unit quaternions: the rotations of the hot arrays, each with the one n/2 places on.
 struct SlerpArrays {
   static constexpr std::size_t n = 4096;
@@ -778,6 +861,11 @@ BENCHMARK(FkOneSkeletonEigen<Eigen::Isometry3f>)->Name("FkOneSkeletonEigenIsomet
 BENCHMARK(FkOneSkeletonEigen<Eigen::Matrix4f>)->Name("FkOneSkeletonEigenMatrix4f");
 BENCHMARK(TransformPointsDispatched)->Arg(0)->Arg(1);
 BENCHMARK(TransformPointsEigenIsometry3f)->Arg(0)->Arg(1);
+BENCHMARK(PointCloudDispatched)->Arg(0)->Arg(1)->UseRealTime();
+BENCHMARK(PointCloudScalar)->Arg(0)->Arg(1)->UseRealTime();
+BENCHMARK(PointCloudEigenIsometry3f)->Arg(0)->Arg(1)->UseRealTime();
+BENCHMARK(PointCloudEigenMatrix3Xf)->Arg(0)->Arg(1)->UseRealTime();
+BENCHMARK(PointCloudGlmMat4)->Arg(0)->Arg(1)->UseRealTime();
 BENCHMARK(SlerpDispatched);
 BENCHMARK(SlerpEigen);
 BENCHMARK(ComposeDispatched)->Arg(0)->Arg(1);

@@ -648,6 +648,40 @@ TEST(Simd, LayoutConversionsFeedTheKernels) {
   });
 }
 
+// One transform for a whole cloud of points (x, y, z one after another): each point bit for bit
+// the scalar function's, on every target, for counts around the vector widths, into another array
+// (the float past it untouched) and in place.
+TEST(Simd, OneTransformMovesAPointCloud) {
+  test::Random rng(43);
+  std::vector<Vec3<float>> cloud(1003);
+  for (auto& p : cloud) p = rng.vec3<float>(10);
+  const Vec3<float> guard{-0.0f, std::numeric_limits<float>::infinity(), 7.0f};
+  // A random transform, and the identity written with negative zeros (its broadcast must keep
+  // them: the signs of zero results follow them), moving points that include signed zeros.
+  const DualQuaternion<float> random = rng.rigid<float>(5), signed_zeros(1.0f, -0.0f, -0.0f, -0.0f, -0.0f, -0.0f, 0.0f, -0.0f);
+  for (std::size_t i = 0; i < 64; ++i) cloud[i] = {i % 2 ? 0.0f : -0.0f, i % 4 < 2 ? -0.0f : 1.0f, i % 8 < 4 ? 0.0f : -0.0f};
+  for (const DualQuaternion<float>& q : {random, signed_zeros})
+  for_each_target([&](Target t) {
+    for (const std::size_t n : {0u, 1u, 3u, 4u, 5u, 8u, 15u, 16u, 17u, 31u, 33u, 47u, 1003u}) {
+      SCOPED_TRACE(std::string(simd::to_string(t)) + ", " + std::to_string(n) + " points");
+      const std::span<const Vec3<float>> in(cloud.data(), n);
+      for (const bool rigid : {true, false}) {
+        const auto expected = [&](const Vec3<float>& p) { return rigid ? q.transform_point(p) : q.transform_direction(p); };
+        const auto run = [&](std::span<const Vec3<float>> from, std::span<Vec3<float>> to) {
+          rigid ? simd::transform_points(q, from, to) : simd::transform_directions(q, from, to);
+        };
+        std::vector<Vec3<float>> out(n + 1, guard);
+        run(in, std::span(out).first(n));
+        for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(out[i], expected(in[i]))) << (rigid ? "point " : "direction ") << i;
+        ASSERT_TRUE(same_bits(out[n], guard)) << "written past the end";
+        std::vector<Vec3<float>> same(in.begin(), in.end());
+        run(same, same);
+        for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(same[i], expected(in[i]))) << "in place, " << i;
+      }
+    }
+  });
+}
+
 TEST(Simd, DispatchReportsWhatTheCpuHas) {
   const Target best = simd::best_target();
   RecordProperty("best_target", std::string(simd::to_string(best)));

@@ -104,8 +104,7 @@ void in_chunks(std::size_t n, F chunk) {
   for (std::size_t i = 0; i < n; i += kChunk) chunk(i, std::min(kChunk, n - i));
 }
 /// out[i] = kernel(q[i], p[i]) for a kernel over dual quaternions and points (transform_points, transform_directions).
-template <class Kernel>
-auto points32(Kernel kernel) {
+auto points32(void (*kernel)(dq::simd::ConstRows, std::array<const float*, 3>, std::array<float*, 3>, std::size_t)) {
   return [kernel](const DQ<float>* q, const V<float>* p, V<float>* out, std::size_t n) {
     Chunk<8> cq;
     Chunk<3> cp;
@@ -116,6 +115,10 @@ auto points32(Kernel kernel) {
       dq::simd::from_rows(std::as_const(cp).starts(), {out + i, m});
     });
   };
+}
+/// out[i] = kernel(q, p[i]) for one q and rows of points, which the kernel reads and writes in place.
+auto cloud32(void (*kernel)(const DQ<float>&, std::span<const V<float>>, std::span<V<float>>)) {
+  return [kernel](const DQ<float>& q, const V<float>* p, V<float>* out, std::size_t n) { kernel(q, {p, n}, {out, n}); };
 }
 /// out[i] = kernel(q[i]) for a kernel from dual quaternions to dual quaternions (normalize, inverse).
 template <class Kernel>
@@ -154,11 +157,11 @@ void bind_products(py::module_& m) {
   }, py::arg("a"), py::arg("b"), "Row-wise Hamilton products of (N, 4) quaternions.");
   m.def("transform_points", [](ArrayLike q, ArrayLike p) {
     return map2<DQ, V, V>(q, p, "q", "p", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_point(y); },
-                          points32(dq::simd::transform_points));
+                          points32(dq::simd::transform_points), cloud32(dq::simd::transform_points));
   }, py::arg("q"), py::arg("p"), "R p + t for (N, 8) unit dual quaternions and (N, 3) points.");
   m.def("transform_directions", [](ArrayLike q, ArrayLike v) {
     return map2<DQ, V, V>(q, v, "q", "v", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_direction(y); },
-                          points32(dq::simd::transform_directions));
+                          points32(dq::simd::transform_directions), cloud32(dq::simd::transform_directions));
   }, py::arg("q"), py::arg("v"), "R v for (N, 8) unit dual quaternions and (N, 3) directions.");
   m.def("rotate", [](ArrayLike q, ArrayLike v) {
     return map2<Q, V, V>(q, v, "q", "v", q_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.rotate(y); });

@@ -49,10 +49,13 @@ py::array map1(py::handle a, const char* name, const std::vector<const char*>& s
 }
 
 /// out[i] = f(a[i], b[i]); a single a or b is used for every row. `rows32`, where given, computes
-/// the same for float32 rows of a and b in one call (`rows32(x, y, o, n)`), unless a or b is single.
-template <template <class> class A, template <class> class B, template <class> class R, class F, class Rows32 = std::nullptr_t>
+/// the same for float32 rows of a and b in one call (`rows32(x, y, o, n)`), unless a or b is single;
+/// `one_by_rows32`, where given, for one float32 a and rows of b (`one_by_rows32(x, y, o, n)`).
+template <template <class> class A, template <class> class B, template <class> class R, class F, class Rows32 = std::nullptr_t,
+          class OneByRows32 = std::nullptr_t>
 py::array map2(py::handle a, py::handle b, const char* na, const char* nb, const std::vector<const char*>& sa,
-               const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f, Rows32 rows32 = nullptr) {
+               const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f, Rows32 rows32 = nullptr,
+               OneByRows32 one_by_rows32 = nullptr) {
   return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
     const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);
     const std::vector<py::ssize_t> leading = common_leading({{&ia, na}, {&ib, nb}});
@@ -66,6 +69,12 @@ py::array map2(py::handle a, py::handle b, const char* na, const char* nb, const
     if constexpr (std::is_same_v<T, float> && !std::is_null_pointer_v<Rows32>) {
       if (da == 1 && db == 1) {
         rows32(x, y, o, n);
+        return out;
+      }
+    }
+    if constexpr (std::is_same_v<T, float> && !std::is_null_pointer_v<OneByRows32>) {
+      if (da == 0 && db == 1) {
+        one_by_rows32(x[0], y, o, n);
         return out;
       }
     }

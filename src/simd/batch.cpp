@@ -227,6 +227,39 @@ struct TransformDirections {
 #endif
 };
 
+/// One transform for every point or direction (Rigid: R p + t; else R v), the points one after
+/// another (x, y, z) in and out.
+template <bool Rigid>
+struct TransformEach {
+  static void scalar(std::size_t first, std::size_t last, DualQuaternion<float> q, const float* in, float* out) {
+    for (std::size_t i = first; i < last; ++i) {
+      const Vec3<float> p{in[3 * i], in[3 * i + 1], in[3 * i + 2]};
+      const Vec3<float> r = Rigid ? q.transform_point(p) : q.transform_direction(p);
+      out[3 * i] = r.x, out[3 * i + 1] = r.y, out[3 * i + 2] = r.z;
+    }
+  }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  /// s in every lane, exactly (Lanes(s), 0 + s, would turn −0 into +0).
+  template <int N>
+  [[gnu::always_inline]] static Lanes<N> splat(float s) {
+    vec<N> v{};
+    v[0] = s;
+    return [v]<int... E>(std::integer_sequence<int, E...>) { return vec<N>(__builtin_shufflevector(v, v, (E * 0)...)); }(std::make_integer_sequence<int, N>{});
+  }
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, DualQuaternion<float> q, const float* in, float* out) {
+    using L = Lanes<N>;
+    const DualQuaternion<L> b{Quaternion<L>(splat<N>(q.real.w), splat<N>(q.real.x), splat<N>(q.real.y), splat<N>(q.real.z)),
+                              Quaternion<L>(splat<N>(q.dual.w), splat<N>(q.dual.x), splat<N>(q.dual.y), splat<N>(q.dual.z))};
+    vec<N> p[3];
+    Points<N>::load(in + 3 * i, p);
+    const Vec3<L> v{p[0], p[1], p[2]};
+    const Vec3<L> r = Rigid ? b.transform_point(v) : b.transform_direction(v);
+    Points<N>::store(r.x.v, r.y.v, r.z.v, out + 3 * i);
+  }
+#endif
+};
+
 /// to_mat34, stored column-major as Mat34::m: out[c · 3 + r] is row r of column c.
 struct ToMatrices {
   static void scalar(std::size_t first, std::size_t last, ConstRows q, Matrices out) {
@@ -555,6 +588,14 @@ void to_rows(std::span<const Quaternion<float>> in, QuaternionRows<float> out) {
 }
 void from_rows(QuaternionRows<const float> in, std::span<Quaternion<float>> out) {
   dispatch<FromRows<4>>(current_target(), out.size(), ConstComponents<4>{in.w, in.x, in.y, in.z}, floats_of(out));
+}
+void transform_points(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out) {
+  DQ_PRECONDITION(out.size() == in.size(), "simd::transform_points: out and in differ in size");
+  dispatch<TransformEach<true>>(current_target(), in.size(), q, floats_of(in), floats_of(out));
+}
+void transform_directions(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out) {
+  DQ_PRECONDITION(out.size() == in.size(), "simd::transform_directions: out and in differ in size");
+  dispatch<TransformEach<false>>(current_target(), in.size(), q, floats_of(in), floats_of(out));
 }
 void to_rows(std::span<const Vec3<float>> in, std::array<float*, 3> out) { dispatch<ToRows<3>>(current_target(), in.size(), floats_of(in), out); }
 void from_rows(std::array<const float*, 3> in, std::span<Vec3<float>> out) { dispatch<FromRows<3>>(current_target(), out.size(), in, floats_of(out)); }

@@ -123,6 +123,13 @@ def test_float32_rows_take_the_vector_kernels_bit_for_bit(rng):
         assert whole.dtype == np.float32
         alone = np.array([f(*(x[i] for x in args)) for i in range(n)])
         np.testing.assert_array_equal(whole.view(np.uint32), alone.view(np.uint32), err_msg=f.__name__)
+    # One transform for every point (a cloud: dq::simd's one-transform kernels, the rows read and
+    # written in place): each point bit for bit the point moved alone.
+    for f in (dqkit.transform_points, dqkit.transform_directions):
+        whole = f(a[5], p)
+        assert whole.dtype == np.float32 and whole.shape == (n, 3)
+        alone = np.array([f(a[5], p[i]) for i in range(n)])
+        np.testing.assert_array_equal(whole.view(np.uint32), alone.view(np.uint32), err_msg=f.__name__ + ", one transform")
     for t in (0.3, -0.5, 1.7):  # dlb takes any t (extrapolation too)
         whole = dqkit.dlb(a, scaled, t)
         assert whole.dtype == np.float32

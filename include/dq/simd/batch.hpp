@@ -84,6 +84,15 @@ void transform_points(ConstRows q, std::array<const float*, 3> p, std::array<flo
 /// unit q_r (for others, the scalar formula's value, which is not a rotation). `out` may be `v`.
 void transform_directions(ConstRows q, std::array<const float*, 3> v, std::array<float*, 3> out, std::size_t n);
 
+/// out[i] = q applied to the point in[i] (R p + t), one transform for every point: a point cloud
+/// or a mesh moved rigidly, its points one after another (x, y, z; a std::vector<Vec3<float>>, a
+/// NumPy (N, 3) float32 array), loaded and stored by whole vectors with no conversion pass. Bit for
+/// bit DualQuaternion::transform_point. Preconditions: out.size() == in.size() (checked); unit q
+/// (for others, the scalar formula's value). `out` may be `in` (not overlapping it otherwise).
+void transform_points(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out);
+/// The same for directions (R v, rotated only; DualQuaternion::transform_direction bit for bit).
+void transform_directions(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out);
+
 /// The 3x4 matrices [R | t] of q[i] for i < n, in twelve arrays: out[c · 3 + r][i] is row r of
 /// column c (the column-major order of Mat34::m, glTF and OpenGL). Bit for bit dq::to_mat34.
 /// Precondition: unit q (for others, the scalar formula's value, which is not a rigid motion).
