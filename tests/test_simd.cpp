@@ -397,15 +397,18 @@ TEST(Simd, DlbIsTheScalarBlendBitForBit) {
     b.push_back(i % 2 ? -rng.rigid<float>(5) : rng.rigid<float>(5));
   }
   const DualQuaternion<float> r = rng.rigid<float>(5), zero{Quaternion<float>(0, 0, 0, 0), Quaternion<float>(0, 0, 0, 0)};
+  // The identity written with negative zeros, blended with a translation: at t = −0 the scalar
+  // blend keeps the zeros negative (−0 + 0.5 · −0), and so must the lanes' t.
+  const DualQuaternion<float> negative_zeros(1.0f, -0.0f, -0.0f, -0.0f, -0.0f, -0.0f, -0.0f, -0.0f), shift(1.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.5f, 0.0f, 0.0f);
   const std::vector<std::pair<DualQuaternion<float>, DualQuaternion<float>>> special{
       {r, r}, {r, -r}, {zero, zero}, {zero, r}, {{r.real, r.real * 2.0f}, {r.real, r.real * 2.0f}},
-      {r, {r.real, Quaternion<float>(std::numeric_limits<float>::quiet_NaN(), 0, 0, 0)}}};
+      {r, {r.real, Quaternion<float>(std::numeric_limits<float>::quiet_NaN(), 0, 0, 0)}}, {negative_zeros, shift}};
   for (std::size_t i = 3, s = 0; i < a.size(); i += 7, ++s) std::tie(a[i], b[i]) = special[s % special.size()];
   const Batch qa(a), qb(b);
   std::size_t rebuilt = 0;  // blends whose normalization rebuilds the dual part, per lane on the vectors
   for (std::size_t i = 0; i < a.size(); ++i) rebuilt += rebuilds_dual_part(a[i] * 0.5f + (dot(a[i].real, b[i].real) < 0 ? -b[i] : b[i]) * 0.5f);
   EXPECT_GT(rebuilt, 20u);
-  for (const float t : {0.0f, 0.25f, 0.5f, 0.7f, 1.0f, -0.5f, 1.7f}) {
+  for (const float t : {0.0f, -0.0f, 0.25f, 0.5f, 0.7f, 1.0f, -0.5f, 1.7f}) {
     for_each_target([&](Target) {
       for (const std::size_t n : kSizes) {
         Batch out(1003, 18);
@@ -656,9 +659,9 @@ TEST(Simd, OneTransformMovesAPointCloud) {
   std::vector<Vec3<float>> cloud(1003);
   for (auto& p : cloud) p = rng.vec3<float>(10);
   const Vec3<float> guard{-0.0f, std::numeric_limits<float>::infinity(), 7.0f};
-  // A random transform, and the identity written with negative zeros (its broadcast must keep
-  // them: the signs of zero results follow them), moving points that include signed zeros.
-  const DualQuaternion<float> random = rng.rigid<float>(5), signed_zeros(1.0f, -0.0f, -0.0f, -0.0f, -0.0f, -0.0f, 0.0f, -0.0f);
+  // A random transform, and one with zeros of both signs (the broadcast must keep them: the signs
+  // of zero results follow them; 0 + s would make them all +0), moving points with signed zeros.
+  const DualQuaternion<float> random = rng.rigid<float>(5), signed_zeros(1.0f, 0.0f, -0.0f, 0.0f, 0.0f, -0.0f, 0.0f, 0.0f);
   for (std::size_t i = 0; i < 64; ++i) cloud[i] = {i % 2 ? 0.0f : -0.0f, i % 4 < 2 ? -0.0f : 1.0f, i % 8 < 4 ? 0.0f : -0.0f};
   for (const DualQuaternion<float>& q : {random, signed_zeros})
   for_each_target([&](Target t) {
@@ -675,8 +678,10 @@ TEST(Simd, OneTransformMovesAPointCloud) {
         for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(out[i], expected(in[i]))) << (rigid ? "point " : "direction ") << i;
         ASSERT_TRUE(same_bits(out[n], guard)) << "written past the end";
         std::vector<Vec3<float>> same(in.begin(), in.end());
-        run(same, same);
+        same.push_back(guard);
+        run(std::span(same).first(n), std::span(same).first(n));
         for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(same[i], expected(in[i]))) << "in place, " << i;
+        ASSERT_TRUE(same_bits(same[n], guard)) << "in place, written past the end";
       }
     }
   });

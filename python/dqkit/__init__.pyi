@@ -1325,7 +1325,7 @@ def sin(x: Dual) -> Dual: ...
 @overload
 def sin(x: HyperDual) -> HyperDual: ...
 def skin_vertices(skin: Skin, bone_world: object, method: SkinningMethod = ..., pool: Optional[SkinningThreads] = ..., out: object = ...) -> numpy.ndarray:
-    """(V, 3) float32 skinned positions for (B, 8) bone world transforms; on `pool` (a SkinningThreads) if given, with the same result bit for bit. `out`: a writable C-contiguous float32 (V, 3) array to write them into (and return) instead of a new one."""
+    """(V, 3) float32 skinned positions for (B, 8) bone world transforms; on `pool` (a SkinningThreads) if given, with the same result bit for bit. `out`: a writable, aligned, C-contiguous float32 (V, 3) array to write them into (and return) instead of a new one."""
 @overload
 def slerp(a: Quaternion, b: Quaternion, t: float, path: Path = ...) -> Quaternion:
     """Spherical linear interpolation (constant angular speed, never fails)."""

@@ -116,7 +116,7 @@ auto points32(void (*kernel)(dq::simd::ConstRows, std::array<const float*, 3>, s
     });
   };
 }
-/// out[i] = kernel(q, p[i]) for one q and rows of points, which the kernel reads and writes in place.
+/// out[i] = kernel(q, p[i]) for one q and rows of points, which the kernel reads and writes directly.
 auto cloud32(void (*kernel)(const DQ<float>&, std::span<const V<float>>, std::span<V<float>>)) {
   return [kernel](const DQ<float>& q, const V<float>* p, V<float>* out, std::size_t n) { kernel(q, {p, n}, {out, n}); };
 }

@@ -37,13 +37,18 @@ std::span<double> inout_vector(py::array& a, std::size_t n, const char* name) {
   return {static_cast<double*>(a.mutable_data()), n};
 }
 
-/// A writable C-contiguous float32 array of shape (rows, 3), taken in place (skin_vertices writes its rows).
+/// A writable, aligned, C-contiguous float32 array of shape (rows, 3), taken in place
+/// (skin_vertices writes its rows; an unaligned one, np.frombuffer at an odd offset, is refused).
 py::array_t<float> inout_rows(py::handle obj, std::size_t rows, const char* name) {
   if (py::isinstance<py::array_t<float>>(obj)) {
     auto a = py::reinterpret_borrow<py::array_t<float>>(obj);
-    if (a.ndim() == 2 && static_cast<std::size_t>(a.shape(0)) == rows && a.shape(1) == 3 && (a.flags() & py::array::c_style) && a.writeable()) return a;
+    const bool aligned = py::detail::array_proxy(a.ptr())->flags & py::detail::npy_api::NPY_ARRAY_ALIGNED_;
+    if (a.ndim() == 2 && static_cast<std::size_t>(a.shape(0)) == rows && a.shape(1) == 3 && (a.flags() & py::array::c_style) &&
+        a.writeable() && aligned)
+      return a;
   }
-  throw py::value_error(std::string(name) + ": expected a writable C-contiguous float32 array of shape (" + std::to_string(rows) + ", 3), one row per vertex");
+  throw py::value_error(std::string(name) + ": expected a writable, aligned, C-contiguous float32 array of shape (" + std::to_string(rows) +
+                        ", 3), one row per vertex");
 }
 
 /// A worker's longest spin that Python may ask for: more is most likely seconds taken for microseconds.
@@ -356,7 +361,7 @@ void bind_skin_types(py::module_& m) {
   }, py::arg("skin"), py::arg("bone_world"), py::arg("method") = dq::SkinningMethod::dqs, py::arg("pool") = py::none(),
      py::arg("out") = py::none(),
      "(V, 3) float32 skinned positions for (B, 8) bone world transforms; on `pool` (a SkinningThreads) if given, "
-     "with the same result bit for bit. `out`: a writable C-contiguous float32 (V, 3) array to write them into "
+     "with the same result bit for bit. `out`: a writable, aligned, C-contiguous float32 (V, 3) array to write them into "
      "(and return) instead of a new one.");
 
   py::class_<dq::SkinnedFrame>(m, "SkinnedFrame")

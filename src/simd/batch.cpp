@@ -46,6 +46,7 @@ using kernels::load8;
 using kernels::load_as;
 using kernels::load_records;
 using kernels::Points;
+using kernels::splat;
 using kernels::polynomial;
 using kernels::product;
 using kernels::store;
@@ -239,13 +240,6 @@ struct TransformEach {
     }
   }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-  /// s in every lane, exactly (Lanes(s), 0 + s, would turn −0 into +0).
-  template <int N>
-  [[gnu::always_inline]] static Lanes<N> splat(float s) {
-    vec<N> v{};
-    v[0] = s;
-    return [v]<int... E>(std::integer_sequence<int, E...>) { return vec<N>(__builtin_shufflevector(v, v, (E * 0)...)); }(std::make_integer_sequence<int, N>{});
-  }
   template <int N>
   [[gnu::always_inline]] static void lanes(std::size_t i, DualQuaternion<float> q, const float* in, float* out) {
     using L = Lanes<N>;
@@ -310,8 +304,8 @@ struct Dlb {
   [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows a, ConstRows b, float t, Rows out) {
     using V = Lanes<N>;
     const DualQuaternion<V> qa = load8<N>(a, i), qb = load8<N>(b, i);
-    const V wb = select_less(dot(qa.real, qb.real), V(0.0f), V(-t), V(t));
-    const NormalizedLanes<N> blend = normalized_lanes(qa * V(1.0f - t) + qb * wb);
+    const V wb = select_less(dot(qa.real, qb.real), V(0.0f), splat<N>(-t), splat<N>(t));  // t = −0 as the scalar blend has it
+    const NormalizedLanes<N> blend = normalized_lanes(qa * splat<N>(1.0f - t) + qb * wb);
     if (blend.irregular) [[unlikely]]
       return scalar_out_of_line<Dlb>(i, i + N, a, b, t, out);
     store8<N>(out, i, negate_where_negative(dot(blend.q.real, qa.real), blend.q));
@@ -591,10 +585,12 @@ void from_rows(QuaternionRows<const float> in, std::span<Quaternion<float>> out)
 }
 void transform_points(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out) {
   DQ_PRECONDITION(out.size() == in.size(), "simd::transform_points: out and in differ in size");
+  DQ_PRECONDITION(out.data() == in.data() || !overlaps(in, out), "simd::transform_points: out overlaps in without being it");
   dispatch<TransformEach<true>>(current_target(), in.size(), q, floats_of(in), floats_of(out));
 }
 void transform_directions(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out) {
   DQ_PRECONDITION(out.size() == in.size(), "simd::transform_directions: out and in differ in size");
+  DQ_PRECONDITION(out.data() == in.data() || !overlaps(in, out), "simd::transform_directions: out overlaps in without being it");
   dispatch<TransformEach<false>>(current_target(), in.size(), q, floats_of(in), floats_of(out));
 }
 void to_rows(std::span<const Vec3<float>> in, std::array<float*, 3> out) { dispatch<ToRows<3>>(current_target(), in.size(), floats_of(in), out); }

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstddef>
 #include <cstring>
+#include <utility>
 
 #include "dq/anim/forward_kinematics.hpp"
 #include "vector_types.hpp"
@@ -43,6 +44,17 @@ struct Lanes {
     return r;
   }
 };
+
+/// s in every lane, exactly. Lanes(s) computes 0 + s, which turns −0 into +0: no matter for the
+/// formulas' constants, but a caller's value (a blend's t, a transform's component) must keep its
+/// sign, as the scalar functions keep it. A shuffle, not s − 0: GCC 12 builds s − 0 lane by lane
+/// (docs/performance.md, "One transform for a cloud of points").
+template <int N>
+[[gnu::always_inline]] inline Lanes<N> splat(float s) {
+  vec<N> v{};
+  v[0] = s;
+  return [v]<int... E>(std::integer_sequence<int, E...>) { return vec<N>(__builtin_shufflevector(v, v, (E * 0)...)); }(std::make_integer_sequence<int, N>{});
+}
 
 /// Σ c_k x^k on lanes by Estrin's scheme: the pairs c_k + c_(k+1) x, then pairs of those joined
 /// by x², then by x⁴, ...: a chain of about 2 log₂ K dependent operations where Horner's rule has

@@ -304,14 +304,17 @@ def test_skin_vertices_into_out(rng):
     wide = np.full((V, 6), np.nan, dtype=np.float32)
     read_only = np.full((V, 3), np.nan, dtype=np.float32)
     read_only.setflags(write=False)
+    unaligned = np.frombuffer(bytearray(12 * V + 1), dtype=np.float32, offset=1).reshape(V, 3)
+    assert unaligned.flags.writeable and not unaligned.flags.aligned
     refused = [np.zeros((V, 3)),  # float64
                np.zeros((V - 1, 3), dtype=np.float32), np.zeros((V, 4), dtype=np.float32), np.zeros(3 * V, dtype=np.float32),
                wide[:, ::2],  # every other column: not contiguous
-               np.asfortranarray(np.zeros((V, 3), dtype=np.float32)), read_only, [[0.0] * 3] * V]
+               np.zeros((V, 3), dtype=np.float32)[::-1],  # rows backwards
+               np.asfortranarray(np.zeros((V, 3), dtype=np.float32)), read_only, unaligned, [[0.0] * 3] * V]
     for bad in refused:
-        with pytest.raises(ValueError, match=rf"out: expected a writable C-contiguous float32 array of shape \({V}, 3\)"):
+        with pytest.raises(ValueError, match=rf"out: expected a writable, aligned, C-contiguous float32 array of shape \({V}, 3\)"):
             dqkit.skin_vertices(skin, world, out=bad)
-    assert np.isnan(wide).all() and np.isnan(read_only).all()
+    assert np.isnan(wide).all() and np.isnan(read_only).all() and not unaligned.any()
 
 
 def small_skin(rng, V=200, B=5, K=3):

@@ -130,6 +130,11 @@ def test_float32_rows_take_the_vector_kernels_bit_for_bit(rng):
         assert whole.dtype == np.float32 and whole.shape == (n, 3)
         alone = np.array([f(a[5], p[i]) for i in range(n)])
         np.testing.assert_array_equal(whole.view(np.uint32), alone.view(np.uint32), err_msg=f.__name__ + ", one transform")
+        # Other shapes of the same call: leading dimensions with q as (1, 8), rows backwards, no rows.
+        grid = f(a[5:6], p[:1000].reshape(10, 100, 3))
+        np.testing.assert_array_equal(grid.view(np.uint32), alone[:1000].reshape(10, 100, 3).view(np.uint32))
+        np.testing.assert_array_equal(f(a[5], p[::-1]).view(np.uint32), alone[::-1].view(np.uint32))
+        assert f(a[5], p[:0]).shape == (0, 3)
     for t in (0.3, -0.5, 1.7):  # dlb takes any t (extrapolation too)
         whole = dqkit.dlb(a, scaled, t)
         assert whole.dtype == np.float32
