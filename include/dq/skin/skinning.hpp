@@ -1,6 +1,7 @@
 // Skinning kernels (library dqkit::skin): linear blend skinning (LBS), dual-quaternion skinning
 // (DQS, Kavan et al. 2008, with the two-phase handling of scaled binds) and centre-of-rotation
-// skinning (CoR, Le and Hodgins 2016), as a batch job over vertices in structure-of-arrays form.
+// skinning (CoR, Le and Hodgins 2016), as a batch job over vertices in structure-of-arrays form,
+// written as component arrays or as rows (x, y, z a vertex: SkinnedVertices).
 //
 // Per frame: update_palette turns the bones' rigid world transforms into the palette (one 3x4
 // matrix and one dual quaternion per bone, float); a SkinningJob then skins a vertex range. Jobs
