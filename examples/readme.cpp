@@ -72,8 +72,15 @@ static int batch_example() {
   dq::simd::compose(dq::simd::rows(ra), dq::simd::rows(rb), dq::simd::rows(ra), n);  // a[i] · b[i], in place
   dq::simd::from_rows(dq::simd::rows(ra), a);                       // the scalar product's bits
 
+  const std::size_t m = 37;
+  std::vector<dq::Vec3<float>> cloud(m);                            // a point cloud (x, y, z each)
+  for (std::size_t i = 0; i < m; ++i) cloud[i] = {float(i), 1, -2};
+  const std::vector<dq::Vec3<float>> cloud0 = cloud;
+  dq::simd::transform_points(a[0], cloud, cloud);                   // moved in place by a[0]
+
   bool ok = true;
   for (std::size_t i = 0; i < n; ++i) ok = ok && a[i] == a0[i] * b[i];
+  for (std::size_t i = 0; i < m; ++i) ok = ok && cloud[i] == a[0].transform_point(cloud0[i]);
   std::printf("batch example: %s\n", ok ? "ok" : "WRONG");
   return ok ? 0 : 1;
 }
