@@ -232,24 +232,20 @@ struct TransformDirections {
 /// another (x, y, z) in and out.
 template <bool Rigid>
 struct TransformEach {
-  static void scalar(std::size_t first, std::size_t last, DualQuaternion<float> q, const float* in, float* out) {
-    for (std::size_t i = first; i < last; ++i) {
-      const Vec3<float> p{in[3 * i], in[3 * i + 1], in[3 * i + 2]};
-      const Vec3<float> r = Rigid ? q.transform_point(p) : q.transform_direction(p);
-      out[3 * i] = r.x, out[3 * i + 1] = r.y, out[3 * i + 2] = r.z;
-    }
+  static void scalar(std::size_t first, std::size_t last, DualQuaternion<float> q, const Vec3<float>* in, Vec3<float>* out) {
+    for (std::size_t i = first; i < last; ++i) out[i] = Rigid ? q.transform_point(in[i]) : q.transform_direction(in[i]);
   }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
   template <int N>
-  [[gnu::always_inline]] static void lanes(std::size_t i, DualQuaternion<float> q, const float* in, float* out) {
+  [[gnu::always_inline]] static void lanes(std::size_t i, DualQuaternion<float> q, const Vec3<float>* in, Vec3<float>* out) {
     using L = Lanes<N>;
     const DualQuaternion<L> b{Quaternion<L>(splat<N>(q.real.w), splat<N>(q.real.x), splat<N>(q.real.y), splat<N>(q.real.z)),
                               Quaternion<L>(splat<N>(q.dual.w), splat<N>(q.dual.x), splat<N>(q.dual.y), splat<N>(q.dual.z))};
     vec<N> p[3];
-    Points<N>::load(in + 3 * i, p);
+    Points<N>::load(&in[i].x, p);  // N points, 3 N floats (Vec3<float> is three floats)
     const Vec3<L> v{p[0], p[1], p[2]};
     const Vec3<L> r = Rigid ? b.transform_point(v) : b.transform_direction(v);
-    Points<N>::store(r.x.v, r.y.v, r.z.v, out + 3 * i);
+    Points<N>::store(r.x.v, r.y.v, r.z.v, &out[i].x);
   }
 #endif
 };
@@ -586,12 +582,12 @@ void from_rows(QuaternionRows<const float> in, std::span<Quaternion<float>> out)
 void transform_points(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out) {
   DQ_PRECONDITION(out.size() == in.size(), "simd::transform_points: out and in differ in size");
   DQ_PRECONDITION(out.data() == in.data() || !overlaps(in, out), "simd::transform_points: out overlaps in without being it");
-  dispatch<TransformEach<true>>(current_target(), in.size(), q, floats_of(in), floats_of(out));
+  dispatch<TransformEach<true>>(current_target(), in.size(), q, in.data(), out.data());
 }
 void transform_directions(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out) {
   DQ_PRECONDITION(out.size() == in.size(), "simd::transform_directions: out and in differ in size");
   DQ_PRECONDITION(out.data() == in.data() || !overlaps(in, out), "simd::transform_directions: out overlaps in without being it");
-  dispatch<TransformEach<false>>(current_target(), in.size(), q, floats_of(in), floats_of(out));
+  dispatch<TransformEach<false>>(current_target(), in.size(), q, in.data(), out.data());
 }
 void to_rows(std::span<const Vec3<float>> in, std::array<float*, 3> out) { dispatch<ToRows<3>>(current_target(), in.size(), floats_of(in), out); }
 void from_rows(std::array<const float*, 3> in, std::span<Vec3<float>> out) { dispatch<FromRows<3>>(current_target(), out.size(), in, floats_of(out)); }
