@@ -85,7 +85,18 @@ constexpr std::size_t kJoints = 64;
 /// translations; float rounding of about 1e-6 with room, far below what a wrong parent or product gives.
 constexpr double kFkTolerance = 1e-4;
 
-/// A 64-joint tree (parents before children, branching like a character) and random local poses.
+/// A 64-joint tree, parents before children, branching like a character: eight chains of eight
+/// joints from the root.
+const std::vector<int>& tree_parents() {
+  static const std::vector<int> parents = [] {
+    std::vector<int> p{-1};
+    for (std::size_t j = 1; j < kJoints; ++j) p.push_back(j % 8 == 1 ? 0 : static_cast<int>(j) - 1);
+    return p;
+  }();
+  return parents;
+}
+
+/// The tree of tree_parents() and random local poses.
 struct Skeletons {
   std::vector<int> parents;
   std::size_t poses;
@@ -94,8 +105,7 @@ struct Skeletons {
   explicit Skeletons(std::size_t n)
       : poses(n), local(kJoints, n), model(kJoints, n), block_local(kJoints, n), block_model(kJoints, n) {
     std::mt19937 rng(7);
-    parents.push_back(-1);
-    for (std::size_t j = 1; j < kJoints; ++j) parents.push_back(j % 8 == 1 ? 0 : static_cast<int>(j) - 1);
+    parents = tree_parents();
     std::normal_distribution<float> g;
     auto v = local.view();
     for (std::size_t j = 0; j < kJoints; ++j)
@@ -261,24 +271,30 @@ void FkOneSkeletonEigen(benchmark::State& s) {
   FkOneSkeleton<E>(s, to_eigen_transform<E>);
 }
 
-/// Frames stored one after another (frame f's joint j at [f · 64 + j], a NumPy (F, J, 8) array):
-/// simd::local_to_model_frames, which loads and transposes them in place, against dq::local_to_model
-/// frame by frame (what the Python binding ran before). The first `frames` poses of the 10,000
-/// skeletons, or all of the 100,000 (in DRAM, as FK of 100,000 skeletons: 410 MB).
+/// Frames stored one after another (frame f's joint j at [f · 64 + j], a NumPy (F, J, 8) array), in
+/// float or double (T): simd::local_to_model_frames, which loads and transposes them in place,
+/// against dq::local_to_model frame by frame (what the Python binding ran before, and for double
+/// until 2026-12-07). The first `frames` poses of the 10,000 skeletons, or all of the 100,000 (in
+/// DRAM, as FK of 100,000 skeletons: 410 MB in float).
+template <class T>
 struct Frames {
-  std::vector<DualQuaternion<float>> local, model;
+  std::vector<DualQuaternion<T>> local, model;
   explicit Frames(std::size_t frames) : model(frames * kJoints) {
     local.reserve(frames * kJoints);
     const auto v = skeletons(frames <= 10'000 ? 10'000 : 100'000).local.view();
     for (std::size_t f = 0; f < frames; ++f)
-      for (std::size_t j = 0; j < kJoints; ++j) local.push_back(v.get(j, f));
+      for (std::size_t j = 0; j < kJoints; ++j) local.push_back(v.get(j, f).template cast<T>());
   }
 };
+/// A dual quaternion's bytes read and written per joint (32 in float, 64 in double, each way).
+template <class T>
+constexpr double kFrameBytes = 2.0 * sizeof(DualQuaternion<T>);
 /// Arguments: frames, threads (local_to_model_frames_parallel on two).
+template <class T>
 void FkFramesDispatched(benchmark::State& state) {
   const auto frames = static_cast<std::size_t>(state.range(0));
   const auto threads = static_cast<unsigned>(state.range(1));
-  Frames x(frames);
+  Frames<T> x(frames);
   const std::vector<int>& parents = skeletons(10'000).parents;
   state.SetLabel(std::string(simd::to_string(simd::current_target())));
   for (auto _ : state) {
@@ -289,28 +305,51 @@ void FkFramesDispatched(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
   // Checked once: every 97th frame against dq::local_to_model on that frame alone.
-  std::vector<DualQuaternion<float>> frame(kJoints);
+  std::vector<DualQuaternion<T>> frame(kJoints);
   for (std::size_t f = 0; f < frames; f += 97) {
-    local_to_model<DualQuaternion<float>>(parents, std::span(x.local).subspan(f * kJoints, kJoints), frame);
+    local_to_model<DualQuaternion<T>>(parents, std::span(x.local).subspan(f * kJoints, kJoints), frame);
     for (std::size_t j = 0; j < kJoints; ++j)
       if (!same_transform(x.model[f * kJoints + j], frame[j], kFkTolerance)) return state.SkipWithError("the batch differs from a frame computed alone");
   }
-  report_fk(state, frames);
+  report_fk(state, frames, kFrameBytes<T>);
 }
+template <class T>
 void FkFramesPerFrame(benchmark::State& state) {
   const auto frames = static_cast<std::size_t>(state.range(0));
-  Frames x(frames);
+  Frames<T> x(frames);
   const std::vector<int>& parents = skeletons(10'000).parents;
   for (auto _ : state) {
     for (std::size_t f = 0; f < frames; ++f)
-      local_to_model<DualQuaternion<float>>(parents, std::span(x.local).subspan(f * kJoints, kJoints), std::span(x.model).subspan(f * kJoints, kJoints));
+      local_to_model<DualQuaternion<T>>(parents, std::span(x.local).subspan(f * kJoints, kJoints), std::span(x.model).subspan(f * kJoints, kJoints));
     benchmark::ClobberMemory();
   }
-  std::vector<DualQuaternion<float>> batch(x.model.size());
+  std::vector<DualQuaternion<T>> batch(x.model.size());
   (void)simd::local_to_model_frames(parents, x.local, batch);
   for (std::size_t i = 0; i < batch.size(); ++i)
     if (!same_transform(x.model[i], batch[i], kFkTolerance)) return state.SkipWithError("the frame-by-frame result differs from the batch's");
-  report_fk(state, frames);
+  report_fk(state, frames, kFrameBytes<T>);
+}
+/// The peer in double: the same frames as Eigen Isometry3d, frame by frame (what users of Eigen and
+/// KDL in robotics write), checked once against dqkit's batch.
+void FkFramesEigenIsometry3d(benchmark::State& state) {
+  const auto frames = static_cast<std::size_t>(state.range(0));
+  Frames<double> x(frames);
+  const std::vector<int>& parents = skeletons(10'000).parents;
+  std::vector<Eigen::Isometry3d> local, model(x.local.size(), Eigen::Isometry3d::Identity());  // filled before timing
+  for (const auto& q : x.local) local.push_back(eigen::to_isometry(q));
+  for (auto _ : state) {
+    for (std::size_t f = 0; f < frames; ++f) {
+      const Eigen::Isometry3d* l = local.data() + f * kJoints;
+      Eigen::Isometry3d* m = model.data() + f * kJoints;
+      for (std::size_t j = 0; j < kJoints; ++j) m[j] = parents[j] < 0 ? l[j] : m[static_cast<std::size_t>(parents[j])] * l[j];
+    }
+    benchmark::DoNotOptimize(model.data());
+    benchmark::ClobberMemory();
+  }
+  (void)simd::local_to_model_frames(parents, x.local, x.model);
+  for (std::size_t i = 0; i < model.size(); i += 7)
+    if (!same_transform(model[i], x.model[i], kFkTolerance)) return state.SkipWithError("Eigen and dqkit disagree");
+  report_fk(state, frames, 2.0 * sizeof(Eigen::Isometry3d));
 }
 
 // ---- points and compositions ---------------------------------------------------------------------------
@@ -577,8 +616,9 @@ struct KernelArrays {
   ComponentArrays<float, 3> v{n};
   ComponentArrays<float, 12> matrix{n};
   std::vector<DualQuaternion<float>> dq_a, dq_b, dq_scaled, dq_out;
+  std::vector<DualQuaternion<double>> dq_a_double, dq_out_double;  // the a's in double, for the frames in double
   std::vector<Vec3<float>> points_out;  // the points v as rows (x, y, z a point), by from_rows_points
-  KernelArrays() : dq_out(n), points_out(n) {
+  KernelArrays() : dq_out(n), dq_out_double(n), points_out(n) {
     std::mt19937 rng(5);
     std::normal_distribution<float> g;
     std::uniform_real_distribution<float> s(0.5f, 2.0f);
@@ -588,6 +628,7 @@ struct KernelArrays {
     for (std::size_t i = 0; i < n; ++i) dq_a.push_back(random_transform()), dq_b.push_back(random_transform()), dq_scaled.push_back(dq_a[i] * s(rng));
     simd::to_rows(dq_a, simd::rows(a)), simd::to_rows(dq_b, simd::rows(b)), simd::to_rows(dq_scaled, simd::rows(scaled));
     simd::to_rows(dq_a, simd::rows(out));
+    for (const auto& q : dq_a) dq_a_double.push_back(q.cast<double>());
     for (std::size_t k = 0; k < 3; ++k)
       for (std::size_t i = 0; i < n; ++i) v[k][i] = g(rng);
     from_rows_points();
@@ -613,9 +654,12 @@ struct KernelArrays {
     simd::slerp({a[0].data(), a[1].data(), a[2].data(), a[3].data()}, {b[0].data(), b[1].data(), b[2].data(), b[3].data()}, kBlendT,
                 {out[0].data(), out[1].data(), out[2].data(), out[3].data()}, n);
   }
-  // Only in OnTarget, with no case of their own: the points' layout conversions.
+  // Only in OnTarget, with no case of their own: the points' layout conversions, and forward
+  // kinematics of the a's as 64 frames of the 64-joint tree (per second: joints), in float and double.
   void to_rows_points() { simd::to_rows(points_out, {out[0].data(), out[1].data(), out[2].data()}); }
   void from_rows_points() { simd::from_rows({v[0].data(), v[1].data(), v[2].data()}, points_out); }
+  void frames() { (void)simd::local_to_model_frames(tree_parents(), dq_a, dq_out); }
+  void frames_double() { (void)simd::local_to_model_frames(tree_parents(), dq_a_double, dq_out_double); }
 };
 KernelArrays& kernel_arrays() {
   static KernelArrays k;
@@ -833,7 +877,8 @@ void register_on_target() {
       {"transform_directions", &KernelArrays::directions}, {"to_matrices", &KernelArrays::to_matrices}, {"normalize", &KernelArrays::normalize},
       {"slerp", &KernelArrays::slerp},             {"dlb", &KernelArrays::dlb},             {"sclerp", &KernelArrays::sclerp},
       {"to_rows", &KernelArrays::to_rows},         {"from_rows", &KernelArrays::from_rows},
-      {"to_rows_points", &KernelArrays::to_rows_points}, {"from_rows_points", &KernelArrays::from_rows_points}};
+      {"to_rows_points", &KernelArrays::to_rows_points}, {"from_rows_points", &KernelArrays::from_rows_points},
+      {"local_to_model_frames", &KernelArrays::frames}, {"local_to_model_frames_double", &KernelArrays::frames_double}};
   for (const auto& [name, kernel] : kernels)
     for (simd::Target target : simd::available_targets())
       benchmark::RegisterBenchmark(("OnTarget/" + std::string(name) + "/" + std::string(simd::to_string(target))).c_str(), OnTarget, kernel, target);
@@ -865,8 +910,11 @@ BENCHMARK(FkScalarJob)->Arg(10'000)->Arg(100'000)->UseRealTime();
 BENCHMARK(FkEigenPerPose<Eigen::Isometry3f>)->Name("FkEigenPerPose")->Arg(10'000)->UseRealTime();
 BENCHMARK(FkEigenPerPose<Eigen::Matrix4f>)->Name("FkEigenMatrix4fPerPose")->Arg(10'000)->UseRealTime();
 BENCHMARK(FkOneSkeletonDualQuaternion);
-BENCHMARK(FkFramesDispatched)->Args({1024, 1})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
-BENCHMARK(FkFramesPerFrame)->Arg(1024)->UseRealTime();
+BENCHMARK(FkFramesDispatched<float>)->Name("FkFramesDispatched")->Args({1024, 1})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
+BENCHMARK(FkFramesPerFrame<float>)->Name("FkFramesPerFrame")->Arg(1024)->UseRealTime();
+BENCHMARK(FkFramesDispatched<double>)->Name("FkFramesDoubleDispatched")->Args({1024, 1})->Args({100'000, 1})->Args({100'000, 2})->UseRealTime();
+BENCHMARK(FkFramesPerFrame<double>)->Name("FkFramesDoublePerFrame")->Arg(1024)->UseRealTime();
+BENCHMARK(FkFramesEigenIsometry3d)->Arg(1024)->UseRealTime();
 BENCHMARK(FkOneSkeletonEigen<Eigen::Isometry3f>)->Name("FkOneSkeletonEigenIsometry3f");
 BENCHMARK(FkOneSkeletonEigen<Eigen::Matrix4f>)->Name("FkOneSkeletonEigenMatrix4f");
 BENCHMARK(TransformPointsDispatched)->Arg(0)->Arg(1);

@@ -284,6 +284,22 @@ def main(results):
     one_eigen4 = b["FkOneSkeletonEigenMatrix4f"]["joints_per_s"]
     for label, rate in (("dqkit `DualQuaternion<float>`", one_dq), ("Eigen `Isometry3f`", one_eigen), ("Eigen `Matrix4f`", one_eigen4)):
         add(f"| one skeleton at a time, {label} | {fmt(rate)} | | {rate / one_eigen:.2f} | {rate / one_eigen4:.2f} | |")
+    if "FkFramesDoubleDispatched/1024/1/real_time" in b:  # runs of the suite since 2026-12-07
+        add("")
+        add("### Forward kinematics in double, frames one after another (64 joints; 128 bytes a joint, 64 read and 64 written)")
+        add("| case | joints/s | bytes/s | × Eigen `Isometry3d` frame by frame | ÷ copy (1 thread) |")
+        add("| --- | ---: | ---: | ---: | ---: |")
+        eigen_d = b["FkFramesEigenIsometry3d/1024/real_time"]["joints_per_s"]
+        for name, label in (
+            ("FkFramesDoubleDispatched/1024/1/real_time", "1024 frames, `local_to_model_frames`, 1 thread"),
+            ("FkFramesDoublePerFrame/1024/real_time", "1024 frames, `dq::local_to_model` frame by frame"),
+            ("FkFramesEigenIsometry3d/1024/real_time", "1024 frames, Eigen `Isometry3d` frame by frame"),
+            ("FkFramesDoubleDispatched/100000/1/real_time", "100,000 frames, `local_to_model_frames`, 1 thread"),
+            ("FkFramesDoubleDispatched/100000/2/real_time", "100,000 frames, `local_to_model_frames_parallel`, 2 threads"),
+        ):
+            r = b[name]
+            add(f"| {label} | {fmt(r['joints_per_s'])} | {fmt(r['bytes_per_second'], 'B/s')} | {r['joints_per_s'] / eigen_d:.2f} | "
+                f"{r['bytes_per_second'] / copy1:.2f} |")
     add("")
     add("### Points and compositions (one transform per element; hot: 4096 elements, DRAM: arrays of 4 × LLC)")
     add("| case | hot, per second | DRAM, per second | × peer (hot / DRAM) |")

@@ -230,18 +230,38 @@ TEST(PoseBlocks, FramesOnThreadsGiveTheOneThreadResult) {
 }
 
 TEST(PoseBlocks, FramesInDoubleAreLocalToModelFrameByFrame) {
-  // The double overload runs dq::local_to_model per frame: bit for bit its result, and the same
-  // checks as float's, with the same messages.
-  const std::size_t joints = kParents.size(), frames = 23;
+  // The double overload runs a kernel of its own per instruction set (2, 4 or 8 frames in the
+  // lanes of a vector, records of eight doubles transposed): on every target, frame counts that
+  // are no multiple of any width, and more joints than the kernel keeps (parents loaded back from
+  // `model`), bit for bit dq::local_to_model on each frame alone (DualQuaternion<double>'s
+  // product, in scalar code), nothing outside `model` written; the same checks as float's, with
+  // the same messages.
   test::Random rng(7);
-  std::vector<DualQuaternion<double>> local(frames * joints), model(frames * joints), want(frames * joints);
-  for (auto& q : local) q = rng.rigid<double>(3);
-  for (std::size_t f = 0; f < frames; ++f)
-    local_to_model<DualQuaternion<double>>(kParents, std::span(local).subspan(f * joints, joints),
-                                           std::span(want).subspan(f * joints, joints));
-  ASSERT_TRUE(simd::local_to_model_frames(kParents, std::span<const DualQuaternion<double>>(local), std::span(model)).ok());
-  for (std::size_t f = 0; f < frames; ++f)
-    for (std::size_t j = 0; j < joints; ++j) expect_same_bits(model[f * joints + j], want[f * joints + j], j, f);
+  std::vector<int> many{-1};
+  for (int j = 1; j < 200; ++j) many.push_back(j % 50 == 0 ? -1 : static_cast<int>(rng.uniform<double>(0, j - 0.5)));
+  for (const std::vector<int>* parents : {&kParents, static_cast<const std::vector<int>*>(&many)}) {
+    const std::size_t joints = parents->size();
+    for (const std::size_t frames : {0u, 1u, 2u, 3u, 4u, 5u, 7u, 8u, 9u, 16u, 17u, 23u}) {
+      if (parents == &many && frames % 2 == 0 && frames != 16) continue;  // the long skeleton on fewer counts
+      std::vector<DualQuaternion<double>> local(frames * joints), want(frames * joints);
+      for (auto& q : local) q = rng.rigid<double>(3);
+      for (std::size_t f = 0; f < frames; ++f)
+        local_to_model<DualQuaternion<double>>(*parents, std::span(local).subspan(f * joints, joints),
+                                               std::span(want).subspan(f * joints, joints));
+      for_each_target([&](simd::Target) {
+        const DualQuaternion<double> guard(1, 2, 3, 4, 5, 6, 7, 8);
+        std::vector<DualQuaternion<double>> model(frames * joints + 2, guard);
+        ASSERT_TRUE(simd::local_to_model_frames(*parents, std::span<const DualQuaternion<double>>(local),
+                                                std::span(model).subspan(1, frames * joints)).ok());
+        ASSERT_TRUE(std::memcmp(&model.front(), &guard, sizeof guard) == 0 && std::memcmp(&model.back(), &guard, sizeof guard) == 0)
+            << "joints " << joints << ", frames " << frames;
+        for (std::size_t f = 0; f < frames; ++f)
+          for (std::size_t j = 0; j < joints; ++j) expect_same_bits(model[1 + f * joints + j], want[f * joints + j], j, f);
+      });
+    }
+  }
+  const std::size_t joints = kParents.size();
+  std::vector<DualQuaternion<double>> local(2 * joints), model(2 * joints);
   const std::span<const DualQuaternion<double>> in(local);
   EXPECT_EQ(simd::local_to_model_frames(kParents, in, std::span(model).first(joints)).error().message,
             "local and model must hold the same whole number of frames of 11 joints");

@@ -145,8 +145,8 @@ void bind_skeleton(py::module_& m) {
       auto* o = as_values<dq::DualQuaternion<T>>(out.mutable_data());
       const std::size_t n = parents.size();
       py::gil_scoped_release release;
-      // float32 frames on the vector lanes, float64 frame by frame with dq::local_to_model (validated
-      // above: parents_of, the shape); on oneTBB's workers unless threads == 1.
+      // Frames on the vector lanes, float32 and float64 (validated above: parents_of, the shape); on
+      // oneTBB's workers unless threads == 1.
       const dq::Status s = dq::simd::local_to_model_frames_parallel(parents, std::span(x, frames * n), std::span(o, frames * n), threads);
       if (!s) throw std::logic_error("local_to_model: " + s.error().message);
       return out;

@@ -1,4 +1,4 @@
-// N float lanes that behave as one scalar, so that the generic formulas of the scalar types
+// N float (or double) lanes that behave as one scalar, so that the generic formulas of the scalar types
 // (detail::hamilton, detail::dual_product, transform_point, ...) instantiate on vectors: the
 // kernels of src/simd/batch.cpp and src/simd/pose_blocks.cpp. Private to dqkit.
 #pragma once
@@ -6,6 +6,7 @@
 #include <array>
 #include <cstddef>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
 #include "dq/anim/forward_kinematics.hpp"
@@ -14,13 +15,15 @@
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
 namespace dq::kernels {
 
-/// N lanes that behave as a scalar for the generic formulas (T(2), T(0.5) broadcast a constant).
-template <int N>
+/// N lanes of S (float, or double for the frames' kernel) that behave as a scalar for the generic
+/// formulas (T(2), T(0.5) broadcast a constant).
+template <int N, class S = float>
 struct Lanes {
-  vec<N> v;
+  using Vector = vector_of<S, N>;
+  Vector v;
   [[gnu::always_inline]] Lanes() : v{} {}
-  [[gnu::always_inline]] Lanes(vec<N> x) : v(x) {}          // NOLINT: implicit, as a scalar
-  [[gnu::always_inline]] Lanes(float s) : v(vec<N>{} + s) {}  // NOLINT
+  [[gnu::always_inline]] Lanes(Vector x) : v(x) {}          // NOLINT: implicit, as a scalar
+  [[gnu::always_inline]] Lanes(S s) : v(Vector{} + s) {}  // NOLINT
   // Copies as a vector. The implicit copy is a struct copy, which GCC 12, in the functions built
   // for AVX2 and AVX-512, made in 16-byte pieces through general registers (vmovq, vpinsrq)
   // wherever a value passed through memory: AVX2's to_matrices ran at 0.75 × SSE2's speed. Copied
@@ -39,8 +42,13 @@ struct Lanes {
   /// Lane by lane: a where x < y, else b.
   [[gnu::always_inline]] friend Lanes select_less(Lanes x, Lanes y, Lanes a, Lanes b) { return x.v < y.v ? a.v : b.v; }
   [[gnu::always_inline]] friend Lanes sqrt(Lanes a) {
-    vec<N> r;
-    for (int i = 0; i < N; ++i) r[i] = __builtin_sqrtf(a.v[i]);  // one vector instruction (-fno-math-errno)
+    Vector r;
+    for (int i = 0; i < N; ++i) {  // one vector instruction (-fno-math-errno)
+      if constexpr (std::is_same_v<S, float>)
+        r[i] = __builtin_sqrtf(a.v[i]);
+      else
+        r[i] = __builtin_sqrt(a.v[i]);
+    }
     return r;
   }
 };
@@ -95,8 +103,8 @@ template <int N>
 }
 
 /// The batch product (detail::batch_product: detail::dual_product over detail::hamilton) on lanes.
-template <int N>
-[[gnu::always_inline]] inline DualQuaternion<Lanes<N>> product(const DualQuaternion<Lanes<N>>& a, const DualQuaternion<Lanes<N>>& b) {
+template <int N, class S>
+[[gnu::always_inline]] inline DualQuaternion<Lanes<N, S>> product(const DualQuaternion<Lanes<N, S>>& a, const DualQuaternion<Lanes<N, S>>& b) {
   return detail::batch_product(a, b);
 }
 

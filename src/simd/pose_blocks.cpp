@@ -96,16 +96,18 @@ bool streams(const BlockedForwardKinematicsJob<float>& job) {
 /// back from `model` and transposed again.
 constexpr std::size_t kFramesKeptJoints = 128;
 
-/// Forward kinematics of N consecutive frames from `first` (local_to_model_frames): each joint's
-/// local transforms loaded per lane and transposed, the product with its parent's model
-/// transforms on the lanes, the result transposed back and stored.
-template <int N>
-[[gnu::always_inline]] inline void frames_product(std::span<const int> parents, const float* local, float* model, std::size_t first) {
+/// Forward kinematics of N consecutive frames from `first` (local_to_model_frames), in float or
+/// double (S): each joint's local transforms loaded per lane and transposed, the product with its
+/// parent's model transforms on the lanes, the result transposed back and stored.
+template <class S, int N>
+[[gnu::always_inline]] inline void frames_product(std::span<const int> parents, const S* local, S* model, std::size_t first) {
+  using V = kernels::vector_of<S, N>;
+  using L = Lanes<N, S>;
   const std::size_t joints = parents.size();
   const bool keep = joints <= kFramesKeptJoints;
-  vec<N> kept[kFramesKeptJoints][8];
-  auto dual_quaternion = [](const vec<N>* c) __attribute__((always_inline)) {
-    return DualQuaternion<Lanes<N>>(Quaternion<Lanes<N>>(c[0], c[1], c[2], c[3]), Quaternion<Lanes<N>>(c[4], c[5], c[6], c[7]));
+  V kept[kFramesKeptJoints][8];
+  auto dual_quaternion = [](const V* c) __attribute__((always_inline)) {
+    return DualQuaternion<L>(Quaternion<L>(c[0], c[1], c[2], c[3]), Quaternion<L>(c[4], c[5], c[6], c[7]));
   };
   auto at = [&](auto* base, std::size_t joint) __attribute__((always_inline)) {
     return [base, joint, joints, first](int lane) __attribute__((always_inline)) {
@@ -113,21 +115,21 @@ template <int N>
     };
   };
   for (std::size_t j = 0; j < joints; ++j) {
-    vec<N> l[8], reloaded[8];
-    vec<N>* out = keep ? kept[j] : reloaded;
+    V l[8], reloaded[8];
+    V* out = keep ? kept[j] : reloaded;
     load_records<N, 8>(at(local, j), l);
     const int p = parents[j];
     if (p < 0) {
       for (int c = 0; c < 8; ++c) out[c] = l[c];
     } else {
-      vec<N> m[8];
-      const vec<N>* parent = m;
+      V m[8];
+      const V* parent = m;
       if (keep)
         parent = kept[p];
       else
         load_records<N, 8>(at(model, static_cast<std::size_t>(p)), m);
-      const DualQuaternion<Lanes<N>> q = product(dual_quaternion(parent), dual_quaternion(l));
-      const Lanes<N>* parts[8] = {&q.real.w, &q.real.x, &q.real.y, &q.real.z, &q.dual.w, &q.dual.x, &q.dual.y, &q.dual.z};
+      const DualQuaternion<L> q = product(dual_quaternion(parent), dual_quaternion(l));
+      const L* parts[8] = {&q.real.w, &q.real.x, &q.real.y, &q.real.z, &q.dual.w, &q.dual.x, &q.dual.y, &q.dual.z};
       for (int c = 0; c < 8; ++c) out[c] = parts[c]->v;
     }
     store_records<N, 8>(out, at(model, j));
@@ -143,12 +145,15 @@ DQKIT_TARGET_KERNEL(sse42, 4, "sse4.2")
 DQKIT_TARGET_KERNEL(avx2, 8, "avx2")
 DQKIT_TARGET_KERNEL(avx512, 16, "avx512f")
 #undef DQKIT_TARGET_KERNEL
-// The frames' kernel per target: whole vectors of frames; returns the frames done.
-#define DQKIT_FRAMES_KERNEL(name, lanes, attribute)                                                      \
-  [[gnu::target(attribute), gnu::flatten]] std::size_t frames_##name(std::span<const int> parents, const float* local, \
-                                                                     float* model, std::size_t frames) { \
+// The frames' kernel per target, for float or double (S): whole vectors of frames (as many as the
+// target's vector has lanes of S); returns the frames done.
+#define DQKIT_FRAMES_KERNEL(name, float_lanes, attribute)                                                \
+  template <class S>                                                                                     \
+  [[gnu::target(attribute), gnu::flatten]] std::size_t frames_##name(std::span<const int> parents, const S* local, \
+                                                                     S* model, std::size_t frames) {     \
+    constexpr int lanes = float_lanes * static_cast<int>(sizeof(float)) / static_cast<int>(sizeof(S));  \
     std::size_t f = 0;                                                                                   \
-    for (; f + lanes <= frames; f += lanes) frames_product<lanes>(parents, local, model, f);             \
+    for (; f + lanes <= frames; f += lanes) frames_product<S, lanes>(parents, local, model, f);          \
     return f;                                                                                            \
   }
 DQKIT_FRAMES_KERNEL(sse2, 4, "sse2")
@@ -195,16 +200,20 @@ Status check_frames(std::span<const int> parents, std::span<const DualQuaternion
 template Status check_frames(std::span<const int>, std::span<const DualQuaternion<float>>, std::span<const DualQuaternion<float>>);
 template Status check_frames(std::span<const int>, std::span<const DualQuaternion<double>>, std::span<const DualQuaternion<double>>);
 
-void compute_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
-                    std::span<DualQuaternion<float>> model) {
+namespace {
+/// compute_frames for float and double: whole vectors of frames on the target in use, the frames
+/// left over with the same product on scalars (detail::batch_product, which for double is
+/// DualQuaternion<double>'s product).
+template <class T>
+void frames_on_target(std::span<const int> parents, std::span<const DualQuaternion<T>> local, std::span<DualQuaternion<T>> model) {
   if (local.empty()) return;
   const std::size_t joints = parents.size();
   const auto* in = local.data();
   auto* out = model.data();
-  static_assert(sizeof(DualQuaternion<float>) == 8 * sizeof(float) && std::is_trivially_copyable_v<DualQuaternion<float>>);
+  static_assert(sizeof(DualQuaternion<T>) == 8 * sizeof(T) && std::is_trivially_copyable_v<DualQuaternion<T>>);
   const std::size_t frames = local.size() / joints;
-  [[maybe_unused]] const float* l = reinterpret_cast<const float*>(in);
-  [[maybe_unused]] float* m = reinterpret_cast<float*>(out);
+  [[maybe_unused]] const T* l = reinterpret_cast<const T*>(in);
+  [[maybe_unused]] T* m = reinterpret_cast<T*>(out);
   std::size_t done = 0;
   switch (current_target()) {
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
@@ -215,19 +224,21 @@ void compute_frames(std::span<const int> parents, std::span<const DualQuaternion
 #endif
     default: break;
   }
-  // The remaining frames with the same product on scalars.
   for (std::size_t f = done; f < frames; ++f)
     for (std::size_t j = 0; j < joints; ++j) {
       const int p = parents[j];
       out[f * joints + j] = p < 0 ? in[f * joints + j] : detail::batch_product(out[f * joints + static_cast<std::size_t>(p)], in[f * joints + j]);
     }
 }
+}  // namespace
 
+void compute_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
+                    std::span<DualQuaternion<float>> model) {
+  frames_on_target<float>(parents, local, model);
+}
 void compute_frames(std::span<const int> parents, std::span<const DualQuaternion<double>> local,
                     std::span<DualQuaternion<double>> model) {
-  const std::size_t joints = parents.size();
-  for (std::size_t begin = 0; begin < local.size(); begin += joints)
-    local_to_model<DualQuaternion<double>>(parents, local.subspan(begin, joints), model.subspan(begin, joints));
+  frames_on_target<double>(parents, local, model);
 }
 
 namespace {

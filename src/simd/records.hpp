@@ -1,4 +1,5 @@
-// Records of C floats (a bone's palette entry, a dual quaternion of an array of structures) moved
+// Records of C floats (a bone's palette entry, a dual quaternion of an array of structures), or of
+// C doubles (a dual quaternion of a frame, for the frames' kernel in double), moved
 // into and out of C component vectors of N lanes, one record per lane: whole-record loads and
 // stores, and transposes with shuffles (no gathers or scatters); and points (x, y, z) one after
 // another, to and from three coordinate vectors. Used by the skinning kernels
@@ -210,6 +211,53 @@ template <int N, int C, class Record>
         std::memcpy(record(j + 8), &high, sizeof high);
       }
     }
+  }
+}
+
+/// Transposes N rows of N doubles (N = 2, 4, 8) in place: log₂ N stages, the stage of bit B
+/// exchanging bit B of the row index with bit B of the column index (rows i and i + B, for each i
+/// without bit B). Its own inverse.
+template <int N, int B = 1>
+[[gnu::always_inline]] inline void transpose_square(vector_of<double, N>* r) {
+  if constexpr (B < N) {
+    using V = vector_of<double, N>;
+    [r]<int... E>(std::integer_sequence<int, E...>) __attribute__((always_inline)) {
+#pragma GCC unroll 8
+      for (int i = 0; i < N; ++i)
+        if (!(i & B)) {
+          const V a = r[i], b = r[i | B];
+          r[i] = __builtin_shufflevector(a, b, ((E & B) ? N + (E ^ B) : E)...);
+          r[i | B] = __builtin_shufflevector(a, b, ((E & B) ? N + E : (E ^ B))...);
+        }
+    }(std::make_integer_sequence<int, N>{});
+    transpose_square<N, 2 * B>(r);
+  }
+}
+
+/// load_records for records of C doubles (C a multiple of N): per group of N components, one load
+/// per lane and a square transpose.
+template <int N, int C, class Record>
+[[gnu::always_inline]] inline void load_records(Record record, vector_of<double, N>* out) {
+  static_assert(C % N == 0);
+  for (int g = 0; g < C / N; ++g) {
+    vector_of<double, N> r[static_cast<std::size_t>(N)];
+#pragma GCC unroll 8
+    for (int j = 0; j < N; ++j) r[j] = load_as<vector_of<double, N>>(record(j) + g * N);
+    transpose_square<N>(r);
+    for (int c = 0; c < N; ++c) out[g * N + c] = r[c];
+  }
+}
+
+/// The inverse of that load_records: each record written whole, and nothing else.
+template <int N, int C, class Record>
+[[gnu::always_inline]] inline void store_records(const vector_of<double, N>* in, Record record) {
+  static_assert(C % N == 0);
+  for (int g = 0; g < C / N; ++g) {
+    vector_of<double, N> r[static_cast<std::size_t>(N)];
+    for (int c = 0; c < N; ++c) r[c] = in[g * N + c];
+    transpose_square<N>(r);
+#pragma GCC unroll 8
+    for (int j = 0; j < N; ++j) std::memcpy(record(j) + g * N, &r[j], sizeof r[j]);
   }
 }
 

@@ -1,5 +1,5 @@
 // The compiler's generic vector types of 4, 8 and 16 floats (and of 32-bit integers, for bit
-// operations) used by the kernels per instruction set: src/simd/batch.cpp and
+// operations; and of 2, 4 and 8 doubles) used by the kernels per instruction set: src/simd/batch.cpp and
 // src/skin/skinning.cpp. Private to dqkit. They pass by value only inside target functions that
 // inline everything (`flatten`, and every helper always_inline, which clang needs): GCC's -Wpsabi
 // note on the helpers' signatures does not apply, and is silenced for the files that include this
@@ -46,9 +46,35 @@ template <int N>
 using vec = typename VectorOf<N>::type;
 static_assert(sizeof(vec<8>) == 8 * sizeof(float));
 
+using double2 = double __attribute__((vector_size(16)));
+using double4 = double __attribute__((vector_size(32)));
+using double8 = double __attribute__((vector_size(64)));
+
+/// The vector of N values of S, float (N = 4, 8, 16) or double (N = 2, 4, 8).
+template <class S, int N>
+struct VectorType;
+template <int N>
+struct VectorType<float, N> {
+  using type = typename VectorOf<N>::type;
+};
+template <>
+struct VectorType<double, 2> {
+  using type = double2;
+};
+template <>
+struct VectorType<double, 4> {
+  using type = double4;
+};
+template <>
+struct VectorType<double, 8> {
+  using type = double8;
+};
+template <class S, int N>
+using vector_of = typename VectorType<S, N>::type;
+
 /// A vector loaded from `p` (no alignment required).
-template <class T>
-[[gnu::always_inline]] inline T load_as(const float* p) {
+template <class T, class S>
+[[gnu::always_inline]] inline T load_as(const S* p) {
   T v;
   std::memcpy(&v, p, sizeof v);
   return v;

@@ -77,10 +77,12 @@ def test_batch_forward_kinematics_on_cmu():
         np.testing.assert_array_equal(model[f], [np.asarray(w) for w in world])
     # One pose, float32, and parents given as a list.
     np.testing.assert_array_equal(dqkit.local_to_model(list(skeleton.parents), local[5]), model[5])
-    # float32 frames run on the vector lanes, in place (dq::simd::local_to_model_frames_parallel): each frame
-    # as computed alone (the same product on scalars), bit for bit, 37 frames (no multiple of any
-    # width); and the float64 result to float32 rounding: 64 ε of the translations' scale for each
-    # level of the hierarchy (the inputs' rounding and a product's few roundings per level).
+    # Frames run on the vector lanes, in place (dq::simd::local_to_model_frames_parallel), in both
+    # dtypes: each frame as computed alone (the same product on scalars), bit for bit, 37 frames (no
+    # multiple of any width); and the float64 result to float32 rounding: 64 ε of the translations'
+    # scale for each level of the hierarchy (the inputs' rounding and a product's few roundings per level).
+    np.testing.assert_array_equal(model[:37].view(np.uint64),
+                                  np.array([dqkit.local_to_model(skeleton, local[f]) for f in range(37)]).view(np.uint64))
     local32 = local[:37].astype(np.float32)
     model32 = dqkit.local_to_model(skeleton, local32)
     assert model32.dtype == np.float32

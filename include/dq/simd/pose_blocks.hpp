@@ -27,8 +27,10 @@ void run(const BlockedForwardKinematicsJob<float>& job);
 /// spans are not one whole number of frames of the same length.
 Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<float>> local,
                              std::span<DualQuaternion<float>> model);
-/// The same for double, with the same checks and errors: each frame by dq::local_to_model (the
-/// scalar product, bit for bit; there is no vector kernel for double).
+/// The same for double, with the same checks and errors: 2, 4 or 8 frames at a time (SSE2, AVX2,
+/// AVX-512), records of eight doubles transposed the same way; bit for bit dq::local_to_model on
+/// each frame alone (DualQuaternion<double>'s product is the batch product, with no fused
+/// multiply-adds).
 Status local_to_model_frames(std::span<const int> parents, std::span<const DualQuaternion<double>> local,
                              std::span<DualQuaternion<double>> model);
 
