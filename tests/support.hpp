@@ -8,6 +8,16 @@
 
 #include "dq/dq.hpp"
 
+// A reference formula's function attribute: compiled without GCC's SLP vectorizer, which in GCC 12
+// fuses the Hamilton pattern into vfmaddsub when FMA is enabled, despite -ffp-contract=off
+// (docs/design.md), so that a reference stays its formula. (Clang has neither the attribute nor
+// the fusion.)
+#if defined(__clang__)
+#define DQKIT_TEST_NO_SLP
+#else
+#define DQKIT_TEST_NO_SLP gnu::optimize("no-tree-slp-vectorize")
+#endif
+
 namespace dq::test {
 
 /// A deterministic generator; every test seeds its own so failures reproduce.

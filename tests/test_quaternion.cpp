@@ -252,14 +252,7 @@ TEST(Quaternion, CanonicalAndApproxEqual) {
   EXPECT_FALSE(q == -q);  // operator== is exact
 }
 
-// The references below are compiled without GCC's SLP vectorizer, which in GCC 12 fuses the
-// Hamilton pattern into vfmaddsub when FMA is enabled, despite -ffp-contract=off (docs/design.md):
-// a reference stays its formula. (Clang has neither the attribute nor the fusion.)
-#if defined(__clang__)
-#define DQKIT_TEST_NO_SLP
-#else
-#define DQKIT_TEST_NO_SLP gnu::optimize("no-tree-slp-vectorize")
-#endif
+// The references below are compiled without GCC's SLP vectorizer (DQKIT_TEST_NO_SLP, support.hpp).
 
 /// The scalar formula, written out: each component's four products summed in pairs.
 [[gnu::noinline, DQKIT_TEST_NO_SLP]] Quaternion<float> hamilton_reference(const Quaternion<float>& a,

@@ -201,9 +201,29 @@ template Status check_frames(std::span<const int>, std::span<const DualQuaternio
 template Status check_frames(std::span<const int>, std::span<const DualQuaternion<double>>, std::span<const DualQuaternion<double>>);
 
 namespace {
+#if defined(__clang__)
+#define DQKIT_NO_SLP
+#else
+#define DQKIT_NO_SLP gnu::optimize("no-tree-slp-vectorize")
+#endif
+/// Frames [first, frames) on scalars, with the kernels' product (detail::batch_product, which for
+/// double is DualQuaternion<double>'s). Compiled without GCC's SLP vectorizer, which where FMA is
+/// enabled fuses the Hamilton product into vfmaddsub despite -ffp-contract=off (docs/design.md):
+/// the frames left over keep the bits of the frames on the lanes in every build.
+template <class T>
+[[gnu::noinline, DQKIT_NO_SLP]] void frames_on_scalars(std::span<const int> parents, const DualQuaternion<T>* in,
+                                                       DualQuaternion<T>* out, std::size_t first, std::size_t frames) {
+  const std::size_t joints = parents.size();
+  for (std::size_t f = first; f < frames; ++f)
+    for (std::size_t j = 0; j < joints; ++j) {
+      const int p = parents[j];
+      out[f * joints + j] = p < 0 ? in[f * joints + j] : detail::batch_product(out[f * joints + static_cast<std::size_t>(p)], in[f * joints + j]);
+    }
+}
+#undef DQKIT_NO_SLP
+
 /// compute_frames for float and double: whole vectors of frames on the target in use, the frames
-/// left over with the same product on scalars (detail::batch_product, which for double is
-/// DualQuaternion<double>'s product).
+/// left over on scalars.
 template <class T>
 void frames_on_target(std::span<const int> parents, std::span<const DualQuaternion<T>> local, std::span<DualQuaternion<T>> model) {
   if (local.empty()) return;
@@ -224,11 +244,7 @@ void frames_on_target(std::span<const int> parents, std::span<const DualQuaterni
 #endif
     default: break;
   }
-  for (std::size_t f = done; f < frames; ++f)
-    for (std::size_t j = 0; j < joints; ++j) {
-      const int p = parents[j];
-      out[f * joints + j] = p < 0 ? in[f * joints + j] : detail::batch_product(out[f * joints + static_cast<std::size_t>(p)], in[f * joints + j]);
-    }
+  frames_on_scalars(parents, in, out, done, frames);
 }
 }  // namespace
 
