@@ -135,6 +135,19 @@ template <class F>
   return b;
 }
 
+/// The eight floats of `low` below the eight at `high`: with GCC, one `vinsertf64x4` from memory
+/// (its join of two loaded halves is a third instruction, a shuffle).
+[[gnu::always_inline]] inline float16 halves(float8 low, const float* high) {
+#if defined(__clang__)
+  return join(low, load_as<float8>(high));
+#else
+  float16 r;
+  const float16 wide = __builtin_shufflevector(low, low, 0, 1, 2, 3, 4, 5, 6, 7, -1, -1, -1, -1, -1, -1, -1, -1);
+  asm("vinsertf64x4 $1, %2, %1, %0" : "=v"(r) : "v"(wide), "m"(*reinterpret_cast<const float8*>(high)));
+  return r;
+#endif
+}
+
 /// out[c] lane j = record(j)[c] for c < C (C = 4 or 8) and j < N (N = 4, 8, 16): one load of
 /// the record's C floats per lane (in blocks of four), then a transpose. `record(j)` gives lane j's
 /// record.
@@ -167,7 +180,7 @@ template <int N, int C, class Record>
       if constexpr (N == 8)
         r[j] = load_as<float8>(record(j));
       else
-        r[j] = join(load_as<float8>(record(j)), load_as<float8>(record(j + 8)));
+        r[j] = halves(load_as<float8>(record(j)), record(j + 8));
     }
     transpose4_in_blocks(r, out);
     transpose4_in_blocks(r + 4, out + 4);
