@@ -616,7 +616,13 @@ struct KernelArrays {
   ComponentArrays<float, 3> v{n};
   ComponentArrays<float, 12> matrix{n};
   std::vector<DualQuaternion<float>> dq_a, dq_b, dq_scaled, dq_out;
-  std::vector<DualQuaternion<double>> dq_a_double, dq_out_double;  // the a's in double, for the frames in double
+  // In double: the a's (also for the frames in double) and b's, in SoA too, the directions v as
+  // points, and outputs.
+  std::vector<DualQuaternion<double>> dq_a_double, dq_b_double, dq_out_double;
+  ComponentArrays<double, 8> a_double{n}, b_double{n}, out_double{n};
+  ComponentArrays<double, 3> v_double{n}, moved_double{n};
+  std::vector<Vec3<double>> cloud_double, cloud_double_out;  // v as points one after another
+  std::vector<Vec3<float>> cloud_out{n};
   std::vector<Vec3<float>> points_out;  // the points v as rows (x, y, z a point), by from_rows_points
   KernelArrays() : dq_out(n), dq_out_double(n), points_out(n) {
     std::mt19937 rng(5);
@@ -628,11 +634,23 @@ struct KernelArrays {
     for (std::size_t i = 0; i < n; ++i) dq_a.push_back(random_transform()), dq_b.push_back(random_transform()), dq_scaled.push_back(dq_a[i] * s(rng));
     simd::to_rows(dq_a, simd::rows(a)), simd::to_rows(dq_b, simd::rows(b)), simd::to_rows(dq_scaled, simd::rows(scaled));
     simd::to_rows(dq_a, simd::rows(out));
-    for (const auto& q : dq_a) dq_a_double.push_back(q.cast<double>());
+    // Unit in double (the float ones, cast, are unit to float rounding only: the peers' matrices
+    // would then differ from dqkit's results by about 1e-7).
+    for (std::size_t i = 0; i < n; ++i)
+      dq_a_double.push_back(dq_a[i].cast<double>().normalized()), dq_b_double.push_back(dq_b[i].cast<double>().normalized());
+    simd::to_rows(dq_a_double, simd::rows(a_double)), simd::to_rows(dq_b_double, simd::rows(b_double));
     for (std::size_t k = 0; k < 3; ++k)
-      for (std::size_t i = 0; i < n; ++i) v[k][i] = g(rng);
+      for (std::size_t i = 0; i < n; ++i) v[k][i] = g(rng), v_double[k][i] = v[k][i];
+    for (std::size_t i = 0; i < n; ++i) cloud_double.push_back(point_double(i));
+    cloud_double_out = cloud_double;
     from_rows_points();
   }
+  DualQuaternion<double> result_double(std::size_t i) const {
+    const auto& o = out_double;
+    return {o[0][i], o[1][i], o[2][i], o[3][i], o[4][i], o[5][i], o[6][i], o[7][i]};
+  }
+  Vec3<double> point_double(std::size_t i) const { return {v_double[0][i], v_double[1][i], v_double[2][i]}; }
+  Vec3<double> moved_point_double(std::size_t i) const { return {moved_double[0][i], moved_double[1][i], moved_double[2][i]}; }
   std::array<float*, 12> matrices() { return matrix.data(); }
   DualQuaternion<float> result(std::size_t i) const {
     return {out[0][i], out[1][i], out[2][i], out[3][i], out[4][i], out[5][i], out[6][i], out[7][i]};
@@ -660,6 +678,17 @@ struct KernelArrays {
   void from_rows_points() { simd::from_rows({v[0].data(), v[1].data(), v[2].data()}, points_out); }
   void frames() { (void)simd::local_to_model_frames(tree_parents(), dq_a, dq_out); }
   void frames_double() { (void)simd::local_to_model_frames(tree_parents(), dq_a_double, dq_out_double); }
+  // The kernels in double: their own cases below, and OnTarget; over component arrays, and over
+  // arrays of structures (records: the dual quaternions and points one after another).
+  void compose_double() { simd::compose(simd::rows(a_double), simd::rows(b_double), simd::rows(out_double), n); }
+  void points_double() { simd::transform_points(simd::rows(a_double), std::as_const(v_double).data(), moved_double.data(), n); }
+  void compose_records_double() { simd::compose(dq_a_double, dq_b_double, dq_out_double); }
+  void points_records_double() { simd::transform_points(dq_a_double, cloud_double, cloud_double_out); }
+  // The same over arrays of structures in float: only in OnTarget.
+  void compose_records() { simd::compose(dq_a, dq_b, dq_out); }
+  void points_records() { simd::transform_points(dq_a, points_out, cloud_out); }
+  // Only in OnTarget: one transform for the v's as points one after another, in double.
+  void cloud_double_moved() { simd::transform_points(dq_a_double[0], cloud_double, cloud_double_out); }
 };
 KernelArrays& kernel_arrays() {
   static KernelArrays k;
@@ -798,6 +827,66 @@ void SclerpScalar(benchmark::State& state) {
       [&](std::size_t i, const DualQuaternion<float>& q) { return approx_equal(q, k.result(i), 1e-5f * (1 + norm(q.translation()))); });
 }
 
+// ---- compose and transform points in double ---------------------------------------------------------
+// The kernels in double against the scalar functions element by element (DualQuaternion<double>,
+// arrays of structures: what a user of dqkit's types writes, and what NumPy float64 rows ran before
+// the kernels) and Eigen's Isometry3d, hot in cache (4096 elements).
+
+void ComposeDoubleDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] { k.compose_double(); });
+}
+void ComposeDoubleRecordsDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] { k.compose_records_double(); });
+}
+void ComposeDoubleScalar(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_peer<DualQuaternion<double>>(
+      state, [&](std::size_t i) { return k.dq_a_double[i] * k.dq_b_double[i]; }, [&] { k.compose_double(); },
+      [&](std::size_t i, const DualQuaternion<double>& q) { return approx_equal(q, k.result_double(i), 1e-12); });
+}
+void ComposeDoubleEigenIsometry3d(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  std::vector<Eigen::Isometry3d> a, b;
+  for (std::size_t i = 0; i < KernelArrays::n; ++i) a.push_back(eigen::to_isometry(k.dq_a_double[i])), b.push_back(eigen::to_isometry(k.dq_b_double[i]));
+  run_peer<Eigen::Isometry3d>(
+      state, [&](std::size_t i) { return a[i] * b[i]; }, [&] { k.compose_double(); },
+      [&](std::size_t i, const Eigen::Isometry3d& m) { return same_transform(m, k.result_double(i), 1e-12); });
+}
+void TransformPointsDoubleDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] { k.points_double(); });
+}
+void TransformPointsDoubleRecordsDispatched(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  run_dispatched(state, [&] { k.points_records_double(); });
+}
+void TransformPointsDoubleScalar(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  std::vector<Vec3<double>> p;
+  for (std::size_t i = 0; i < KernelArrays::n; ++i) p.push_back(k.point_double(i));
+  run_peer<Vec3<double>>(
+      state, [&](std::size_t i) { return k.dq_a_double[i].transform_point(p[i]); }, [&] { k.points_double(); },
+      [&](std::size_t i, const Vec3<double>& x) { return norm(x - k.moved_point_double(i)) <= 1e-12 * (1 + norm(x)); });
+}
+void TransformPointsDoubleEigenIsometry3d(benchmark::State& state) {
+  KernelArrays& k = kernel_arrays();
+  std::vector<Eigen::Isometry3d> m;
+  std::vector<Eigen::Vector3d> p;
+  for (std::size_t i = 0; i < KernelArrays::n; ++i) {
+    const Vec3<double> x = k.point_double(i);
+    m.push_back(eigen::to_isometry(k.dq_a_double[i])), p.emplace_back(x.x, x.y, x.z);
+  }
+  run_peer<Eigen::Vector3d>(
+      state, [&](std::size_t i) -> Eigen::Vector3d { return m[i] * p[i]; }, [&] { k.points_double(); },
+      [&](std::size_t i, const Eigen::Vector3d& x) {
+        const Vec3<double> want = k.moved_point_double(i);
+        return (x - Eigen::Vector3d(want.x, want.y, want.z)).norm() <= 1e-12 * (1 + x.norm());
+      });
+}
+
+// ---- layout conversions ---------------------------------------------------------------------------------
 // The layout conversions, against the loops users write: each element's eight floats to or from
 // the eight arrays, component by component.
 void ToRowsDispatched(benchmark::State& state) {
@@ -878,7 +967,11 @@ void register_on_target() {
       {"slerp", &KernelArrays::slerp},             {"dlb", &KernelArrays::dlb},             {"sclerp", &KernelArrays::sclerp},
       {"to_rows", &KernelArrays::to_rows},         {"from_rows", &KernelArrays::from_rows},
       {"to_rows_points", &KernelArrays::to_rows_points}, {"from_rows_points", &KernelArrays::from_rows_points},
-      {"local_to_model_frames", &KernelArrays::frames}, {"local_to_model_frames_double", &KernelArrays::frames_double}};
+      {"local_to_model_frames", &KernelArrays::frames}, {"local_to_model_frames_double", &KernelArrays::frames_double},
+      {"compose_double", &KernelArrays::compose_double}, {"transform_points_double", &KernelArrays::points_double},
+      {"point_cloud_double", &KernelArrays::cloud_double_moved}, {"compose_records", &KernelArrays::compose_records},
+      {"transform_points_records", &KernelArrays::points_records}, {"compose_records_double", &KernelArrays::compose_records_double},
+      {"transform_points_records_double", &KernelArrays::points_records_double}};
   for (const auto& [name, kernel] : kernels)
     for (simd::Target target : simd::available_targets())
       benchmark::RegisterBenchmark(("OnTarget/" + std::string(name) + "/" + std::string(simd::to_string(target))).c_str(), OnTarget, kernel, target);
@@ -930,6 +1023,14 @@ BENCHMARK(ComposeDispatched)->Arg(0)->Arg(1);
 BENCHMARK(ComposeGlmDualquat)->Arg(0)->Arg(1);
 BENCHMARK(ComposeEigen<Eigen::Isometry3f>)->Name("ComposeEigenIsometry3f")->Arg(0)->Arg(1);
 BENCHMARK(ComposeEigen<Eigen::Matrix4f>)->Name("ComposeEigenMatrix4f")->Arg(0)->Arg(1);
+BENCHMARK(ComposeDoubleDispatched);
+BENCHMARK(ComposeDoubleRecordsDispatched);
+BENCHMARK(ComposeDoubleScalar);
+BENCHMARK(ComposeDoubleEigenIsometry3d);
+BENCHMARK(TransformPointsDoubleDispatched);
+BENCHMARK(TransformPointsDoubleRecordsDispatched);
+BENCHMARK(TransformPointsDoubleScalar);
+BENCHMARK(TransformPointsDoubleEigenIsometry3d);
 BENCHMARK(InverseDispatched);
 BENCHMARK(InverseGlmDualquat);
 BENCHMARK(TransformDirectionsDispatched);

@@ -333,7 +333,11 @@ def main(results):
         ("Sclerp", (("SclerpScalar", "dqkit's scalar `dq::sclerp` per element (no peer has sclerp)"),)),
         ("ToRows", (("ToRowsLoop", "the loop users write, component by component"),)),
         ("FromRows", (("FromRowsLoop", "the loop users write, component by component"),)),
-    ):
+    ) + tuple((kernel + layout, peers) for layout in ("", "Records") for kernel, peers in (
+        ("ComposeDouble", (("ComposeDoubleScalar", "dqkit's `DualQuaternion<double>` product per element"),
+                           ("ComposeDoubleEigenIsometry3d", "Eigen `Isometry3d` per element"))),
+        ("TransformPointsDouble", (("TransformPointsDoubleScalar", "dqkit's `DualQuaternion<double>::transform_point` per element"),
+                                   ("TransformPointsDoubleEigenIsometry3d", "Eigen `Isometry3d * v` per element"))))):
         if kernel + "Dispatched" not in b:
             continue  # a run of the suite before the kernel existed
         mine = b[kernel + "Dispatched"]["per_s"]

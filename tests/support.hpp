@@ -97,4 +97,41 @@ auto abs_diff(const A& a, const B& b) {
 
 using FloatTypes = ::testing::Types<float, double, long double>;
 
+// The scalar double formulas that the batch kernels in double compute, written out in the order of
+// operations of the library's scalar functions (DualQuaternion's product, transform_point,
+// Quaternion::rotate) and compiled without SLP (DQKIT_TEST_NO_SLP): the formulas' bits in every
+// build, where the library's scalar functions are fused by GCC in a build with FMA.
+
+/// Three Hamilton products, each component's four products summed in pairs, then the dual part's sum.
+[[gnu::noinline, DQKIT_TEST_NO_SLP]] inline Quaternion<double> hamilton_reference(const Quaternion<double>& a, const Quaternion<double>& b) {
+  return {(a.w * b.w - a.x * b.x) - (a.y * b.y + a.z * b.z), (a.w * b.x + a.x * b.w) + (a.y * b.z - a.z * b.y),
+          (a.w * b.y - a.x * b.z) + (a.y * b.w + a.z * b.x), (a.w * b.z + a.x * b.y) - (a.y * b.x - a.z * b.w)};
+}
+[[gnu::noinline, DQKIT_TEST_NO_SLP]] inline DualQuaternion<double> product_reference(const DualQuaternion<double>& a,
+                                                                                      const DualQuaternion<double>& b) {
+  const Quaternion<double> rd = hamilton_reference(a.real, b.dual), dr = hamilton_reference(a.dual, b.real);
+  return {hamilton_reference(a.real, b.real), Quaternion<double>(rd.w + dr.w, rd.x + dr.x, rd.y + dr.y, rd.z + dr.z)};
+}
+[[gnu::noinline, DQKIT_TEST_NO_SLP]] inline Vec3<double> cross_reference(const Vec3<double>& a, const Vec3<double>& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+/// p + 2 [w c + r × c − w_d r] with c = r × p + d (DualQuaternion::transform_point).
+[[gnu::noinline, DQKIT_TEST_NO_SLP]] inline Vec3<double> transform_point_reference(const DualQuaternion<double>& q, const Vec3<double>& p) {
+  const Vec3<double> r = q.real.vec(), d = q.dual.vec();
+  const Vec3<double> rp = cross_reference(r, p);
+  const Vec3<double> c{rp.x + d.x, rp.y + d.y, rp.z + d.z};
+  const Vec3<double> rc = cross_reference(r, c);
+  const double w = q.real.w, wd = q.dual.w;
+  return {p.x + ((c.x * w + rc.x) - r.x * wd) * 2.0, p.y + ((c.y * w + rc.y) - r.y * wd) * 2.0, p.z + ((c.z * w + rc.z) - r.z * wd) * 2.0};
+}
+/// v + w t + u × t with t = 2 u × v (Quaternion::rotate of the real part).
+[[gnu::noinline, DQKIT_TEST_NO_SLP]] inline Vec3<double> transform_direction_reference(const DualQuaternion<double>& q, const Vec3<double>& v) {
+  const Vec3<double> u = q.real.vec();
+  const Vec3<double> uv = cross_reference(u, v);
+  const Vec3<double> t{uv.x * 2.0, uv.y * 2.0, uv.z * 2.0};
+  const Vec3<double> ut = cross_reference(u, t);
+  const double w = q.real.w;
+  return {(v.x + t.x * w) + ut.x, (v.y + t.y * w) + ut.y, (v.z + t.z * w) + ut.z};
+}
+
 }  // namespace dq::test

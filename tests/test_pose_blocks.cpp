@@ -229,23 +229,11 @@ TEST(PoseBlocks, FramesOnThreadsGiveTheOneThreadResult) {
   expect_frames_on_threads_as_on_one<double>();
 }
 
-/// The dual quaternion product in double written out (three Hamilton products, each component's
-/// four products summed in pairs, then the dual part's sum), compiled without GCC's SLP vectorizer:
-/// the formula's bits in every build.
-[[gnu::noinline, DQKIT_TEST_NO_SLP]] Quaternion<double> hamilton_reference(const Quaternion<double>& a, const Quaternion<double>& b) {
-  return {(a.w * b.w - a.x * b.x) - (a.y * b.y + a.z * b.z), (a.w * b.x + a.x * b.w) + (a.y * b.z - a.z * b.y),
-          (a.w * b.y - a.x * b.z) + (a.y * b.w + a.z * b.x), (a.w * b.z + a.x * b.y) - (a.y * b.x - a.z * b.w)};
-}
-[[gnu::noinline, DQKIT_TEST_NO_SLP]] DualQuaternion<double> product_reference(const DualQuaternion<double>& a, const DualQuaternion<double>& b) {
-  const Quaternion<double> rd = hamilton_reference(a.real, b.dual), dr = hamilton_reference(a.dual, b.real);
-  return {hamilton_reference(a.real, b.real), Quaternion<double>(rd.w + dr.w, rd.x + dr.x, rd.y + dr.y, rd.z + dr.z)};
-}
-
 TEST(PoseBlocks, FramesInDoubleAreTheProductFrameByFrame) {
   // The double overload runs a kernel of its own per instruction set (2, 4 or 8 frames in the
   // lanes of a vector, records of eight doubles transposed): on every target, frame counts that
   // are no multiple of any width, and more joints than the kernel keeps (parents loaded back from
-  // `model`), bit for bit each frame's forward kinematics with the product written out above,
+  // `model`), bit for bit each frame's forward kinematics with the product written out (test::product_reference),
   // nothing outside `model` written; and where FMA is not enabled (GCC's SLP vectorizer then fuses
   // nothing), bit for bit dq::local_to_model on each frame alone. The same checks as float's, with
   // the same messages.
@@ -260,7 +248,7 @@ TEST(PoseBlocks, FramesInDoubleAreTheProductFrameByFrame) {
       for (auto& q : local) q = rng.rigid<double>(3);
       for (std::size_t i = 0; i < local.size(); ++i) {
         const int p = (*parents)[i % joints];
-        want[i] = p < 0 ? local[i] : product_reference(want[i - i % joints + static_cast<std::size_t>(p)], local[i]);
+        want[i] = p < 0 ? local[i] : test::product_reference(want[i - i % joints + static_cast<std::size_t>(p)], local[i]);
       }
 #if !defined(__FMA__)
       std::vector<DualQuaternion<double>> frame(joints);

@@ -12,9 +12,11 @@
 #include <limits>
 #include <numbers>
 #include <span>
+#include <stdexcept>
 #include <random>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -29,34 +31,42 @@ namespace {
 using namespace dq;
 using simd::Target;
 
-/// Eight random component arrays of n unit dual quaternions.
-struct Batch {
-  std::vector<float> c[8];
-  explicit Batch(std::size_t n, unsigned seed) {
+/// Eight random component arrays of n unit dual quaternions of S.
+template <class S>
+struct BatchOf {
+  std::vector<S> c[8];
+  explicit BatchOf(std::size_t n, unsigned seed) {
     test::Random rng(seed);
     for (auto& v : c) v.resize(n);
-    for (std::size_t i = 0; i < n; ++i) set(i, rng.rigid<float>(5));
+    for (std::size_t i = 0; i < n; ++i) set(i, rng.rigid<S>(5));
   }
-  explicit Batch(const std::vector<DualQuaternion<float>>& qs) {
+  explicit BatchOf(const std::vector<DualQuaternion<S>>& qs) {
     for (auto& v : c) v.resize(qs.size());
     for (std::size_t i = 0; i < qs.size(); ++i) set(i, qs[i]);
   }
   std::size_t size() const { return c[0].size(); }
-  void set(std::size_t i, const DualQuaternion<float>& q) {
-    const float v[8] = {q.real.w, q.real.x, q.real.y, q.real.z, q.dual.w, q.dual.x, q.dual.y, q.dual.z};
+  void set(std::size_t i, const DualQuaternion<S>& q) {
+    const S v[8] = {q.real.w, q.real.x, q.real.y, q.real.z, q.dual.w, q.dual.x, q.dual.y, q.dual.z};
     for (int k = 0; k < 8; ++k) c[k][i] = v[k];
   }
-  DualQuaternion<float> get(std::size_t i) const {
+  DualQuaternion<S> get(std::size_t i) const {
     return {c[0][i], c[1][i], c[2][i], c[3][i], c[4][i], c[5][i], c[6][i], c[7][i]};
   }
-  simd::ConstRows rows() const { return detail::row_of<const float>(c, 0); }
-  simd::Rows rows() { return detail::row_of<float>(c, 0); }
+  detail::Row8<const S> rows() const { return detail::row_of<const S>(c, 0); }
+  detail::Row8<S> rows() { return detail::row_of<S>(c, 0); }
 };
+using Batch = BatchOf<float>;
 
 using test::for_each_target;
 using test::same_bits;
-bool same_bits(const DualQuaternion<float>& a, const DualQuaternion<float>& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-bool same_bits(const Vec3<float>& a, const Vec3<float>& b) { return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z); }
+template <class S>
+bool same_bits(const DualQuaternion<S>& a, const DualQuaternion<S>& b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+template <class S>
+bool same_bits(const Vec3<S>& a, const Vec3<S>& b) {
+  return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
+}
 
 TEST(Simd, ComposeIsTheScalarProductBitForBit) {
   const std::size_t n = 1003;  // not a multiple of any width: the tails run too
@@ -572,32 +582,34 @@ TEST(Simd, SclerpTailsInPlaceAndExtrapolation) {
   });
 }
 
-/// Layout conversions of elements of C floats (E: DualQuaternion, Quaternion or Vec3 of float)
-/// on every target: every bit copied (random bit patterns: NaNs with payloads, infinities,
-/// subnormals, signed zeros), element i's float c is array c's value i, for every n (tails, 0),
-/// and nothing past n or outside the arrays written. `rows` makes the kernels' rows from C array
-/// starts; `to` and `from` call the conversions.
-template <class E, std::size_t C, class Rows, class To, class From>
+/// Layout conversions of elements of C values of S (E: DualQuaternion, Quaternion or Vec3 of S,
+/// float or double) on every target: every bit copied (random bit patterns: NaNs with payloads,
+/// infinities, subnormals, signed zeros), element i's value c is array c's value i, for every n
+/// (tails, 0), and nothing past n or outside the arrays written. `rows` makes the kernels' rows
+/// from C array starts; `to` and `from` call the conversions.
+template <class E, std::size_t C, class S, class Rows, class To, class From>
 void check_layout_conversion(Rows rows, To to, From from) {
-  static_assert(sizeof(E) == C * sizeof(float));
+  static_assert(sizeof(E) == C * sizeof(S));
+  using Bits = std::conditional_t<sizeof(S) == 4, std::uint32_t, std::uint64_t>;
   constexpr std::size_t kMax = 1003, kGuard = 16;
-  const std::uint32_t sentinel = 0x7fc0dead;  // a NaN with a payload (not among the draws: asserted)
-  std::mt19937 rng(31 + C);
+  // A NaN with a payload (not among the draws: asserted).
+  const Bits sentinel = sizeof(S) == 4 ? Bits(0x7fc0dead) : Bits(0x7ff800000000deadull);
+  std::mt19937_64 rng(31 + C);
   auto random_bits = [&] {
-    std::vector<std::uint32_t> b(C * kMax);
-    for (auto& x : b) x = static_cast<std::uint32_t>(rng());
+    std::vector<Bits> b(C * kMax);
+    for (auto& x : b) x = static_cast<Bits>(rng());
     return b;
   };
-  const std::vector<std::uint32_t> bits = random_bits();
+  const std::vector<Bits> bits = random_bits();
   ASSERT_EQ(std::count(bits.begin(), bits.end(), sentinel), 0);
   std::vector<E> aos(kMax);
-  std::memcpy(static_cast<void*>(aos.data()), bits.data(), C * kMax * sizeof(float));
+  std::memcpy(static_cast<void*>(aos.data()), bits.data(), C * kMax * sizeof(S));
   for_each_target([&](Target) {
     for (const std::size_t n : kSizes) {
       // Arrays of structures to component arrays: each array with guards before and after.
-      std::vector<std::vector<std::uint32_t>> arrays(C, std::vector<std::uint32_t>(kMax + 2 * kGuard, sentinel));
-      std::array<float*, C> starts;
-      for (std::size_t c = 0; c < C; ++c) starts[c] = reinterpret_cast<float*>(arrays[c].data() + kGuard);
+      std::vector<std::vector<Bits>> arrays(C, std::vector<Bits>(kMax + 2 * kGuard, sentinel));
+      std::array<S*, C> starts;
+      for (std::size_t c = 0; c < C; ++c) starts[c] = reinterpret_cast<S*>(arrays[c].data() + kGuard);
       to(std::span<const E>(aos.data(), n), rows(starts));
       for (std::size_t c = 0; c < C; ++c)
         for (std::size_t i = 0; i < kMax + 2 * kGuard; ++i) {
@@ -605,8 +617,8 @@ void check_layout_conversion(Rows rows, To to, From from) {
           ASSERT_EQ(arrays[c][i], inside ? bits[C * (i - kGuard) + c] : sentinel) << "to_rows, n " << n << " array " << c << " index " << i;
         }
       // And back, into a span with elements before and after it.
-      std::vector<std::uint32_t> back(C * (kMax + 2), sentinel);
-      std::array<const float*, C> in;
+      std::vector<Bits> back(C * (kMax + 2), sentinel);
+      std::array<const S*, C> in;
       for (std::size_t c = 0; c < C; ++c) in[c] = starts[c];
       from(rows(in), std::span<E>(reinterpret_cast<E*>(back.data()) + 1, n));
       for (std::size_t k = 0; k < back.size(); ++k) {
@@ -618,18 +630,27 @@ void check_layout_conversion(Rows rows, To to, From from) {
 }
 
 TEST(Simd, LayoutConversionsCopyEveryBitAndNothingElse) {
-  check_layout_conversion<DualQuaternion<float>, 8>(
+  check_layout_conversion<DualQuaternion<float>, 8, float>(
       []<class F>(const std::array<F*, 8>& a) { return detail::Row8<F>{a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]}; },
       [](std::span<const DualQuaternion<float>> in, simd::Rows out) { simd::to_rows(in, out); },
       [](simd::ConstRows in, std::span<DualQuaternion<float>> out) { simd::from_rows(in, out); });
-  check_layout_conversion<Quaternion<float>, 4>(
+  check_layout_conversion<Quaternion<float>, 4, float>(
       []<class F>(const std::array<F*, 4>& a) { return simd::QuaternionRows<F>{a[0], a[1], a[2], a[3]}; },
       [](std::span<const Quaternion<float>> in, simd::QuaternionRows<float> out) { simd::to_rows(in, out); },
       [](simd::QuaternionRows<const float> in, std::span<Quaternion<float>> out) { simd::from_rows(in, out); });
-  check_layout_conversion<Vec3<float>, 3>(
+  check_layout_conversion<Vec3<float>, 3, float>(
       []<class F>(const std::array<F*, 3>& a) { return a; },
       [](std::span<const Vec3<float>> in, std::array<float*, 3> out) { simd::to_rows(in, out); },
       [](std::array<const float*, 3> in, std::span<Vec3<float>> out) { simd::from_rows(in, out); });
+  // In double: dual quaternions (records of eight doubles, transposed in squares) and points.
+  check_layout_conversion<DualQuaternion<double>, 8, double>(
+      []<class F>(const std::array<F*, 8>& a) { return detail::Row8<F>{a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]}; },
+      [](std::span<const DualQuaternion<double>> in, simd::RowsD out) { simd::to_rows(in, out); },
+      [](simd::ConstRowsD in, std::span<DualQuaternion<double>> out) { simd::from_rows(in, out); });
+  check_layout_conversion<Vec3<double>, 3, double>(
+      []<class F>(const std::array<F*, 3>& a) { return a; },
+      [](std::span<const Vec3<double>> in, std::array<double*, 3> out) { simd::to_rows(in, out); },
+      [](std::array<const double*, 3> in, std::span<Vec3<double>> out) { simd::from_rows(in, out); });
 }
 
 TEST(Simd, LayoutConversionsFeedTheKernels) {
@@ -651,40 +672,197 @@ TEST(Simd, LayoutConversionsFeedTheKernels) {
   });
 }
 
-// One transform for a whole cloud of points (x, y, z one after another): each point bit for bit
-// the scalar function's, on every target, for counts around the vector widths, into another array
-// (the float past it untouched) and in place.
-TEST(Simd, OneTransformMovesAPointCloud) {
+/// What the kernels compute for a point (Rigid) or direction: the scalar functions in float; in
+/// double the formulas written out without SLP (tests/support.hpp), and where FMA is not enabled
+/// the scalar functions too (checked in KernelsInDoubleAreTheScalarFormulasBitForBit).
+template <class S>
+Vec3<S> moved(const DualQuaternion<S>& q, const Vec3<S>& p, bool rigid) {
+  if constexpr (std::is_same_v<S, double>)
+    return rigid ? test::transform_point_reference(q, p) : test::transform_direction_reference(q, p);
+  else
+    return rigid ? q.transform_point(p) : q.transform_direction(p);
+}
+
+// One transform for a whole cloud of points (x, y, z one after another), in float and in double:
+// each point bit for bit what the scalar formula gives, on every target, for counts around the
+// vector widths, into another array (the point past it untouched) and in place.
+template <class S>
+void check_point_cloud() {
   test::Random rng(43);
-  std::vector<Vec3<float>> cloud(1003);
-  for (auto& p : cloud) p = rng.vec3<float>(10);
-  const Vec3<float> guard{-0.0f, std::numeric_limits<float>::infinity(), 7.0f};
+  std::vector<Vec3<S>> cloud(1003);
+  for (auto& p : cloud) p = rng.vec3<S>(10);
+  const Vec3<S> guard{S(-0.0), std::numeric_limits<S>::infinity(), S(7)};
   // A random transform, and one with zeros of both signs (the broadcast must keep them: the signs
   // of zero results follow them; 0 + s would make them all +0), moving points with signed zeros.
-  const DualQuaternion<float> random = rng.rigid<float>(5), signed_zeros(1.0f, 0.0f, -0.0f, 0.0f, 0.0f, -0.0f, 0.0f, 0.0f);
-  for (std::size_t i = 0; i < 64; ++i) cloud[i] = {i % 2 ? 0.0f : -0.0f, i % 4 < 2 ? -0.0f : 1.0f, i % 8 < 4 ? 0.0f : -0.0f};
-  for (const DualQuaternion<float>& q : {random, signed_zeros})
+  const DualQuaternion<S> random = rng.rigid<S>(5), signed_zeros(1, 0, S(-0.0), 0, 0, S(-0.0), 0, 0);
+  for (std::size_t i = 0; i < 64; ++i) cloud[i] = {i % 2 ? S(0) : S(-0.0), i % 4 < 2 ? S(-0.0) : S(1), i % 8 < 4 ? S(0) : S(-0.0)};
+  for (const DualQuaternion<S>& q : {random, signed_zeros})
   for_each_target([&](Target t) {
-    for (const std::size_t n : {0u, 1u, 3u, 4u, 5u, 8u, 15u, 16u, 17u, 31u, 33u, 47u, 1003u}) {
-      SCOPED_TRACE(std::string(simd::to_string(t)) + ", " + std::to_string(n) + " points");
-      const std::span<const Vec3<float>> in(cloud.data(), n);
+    for (const std::size_t n : {0u, 1u, 2u, 3u, 4u, 5u, 8u, 9u, 15u, 16u, 17u, 31u, 33u, 47u, 1003u}) {
+      SCOPED_TRACE(std::string(simd::to_string(t)) + ", " + std::to_string(n) + " points of " + (sizeof(S) == 4 ? "float" : "double"));
+      const std::span<const Vec3<S>> in(cloud.data(), n);
       for (const bool rigid : {true, false}) {
-        const auto expected = [&](const Vec3<float>& p) { return rigid ? q.transform_point(p) : q.transform_direction(p); };
-        const auto run = [&](std::span<const Vec3<float>> from, std::span<Vec3<float>> to) {
+        const auto run = [&](std::span<const Vec3<S>> from, std::span<Vec3<S>> to) {
           rigid ? simd::transform_points(q, from, to) : simd::transform_directions(q, from, to);
         };
-        std::vector<Vec3<float>> out(n + 1, guard);
+        std::vector<Vec3<S>> out(n + 1, guard);
         run(in, std::span(out).first(n));
-        for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(out[i], expected(in[i]))) << (rigid ? "point " : "direction ") << i;
+        for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(out[i], moved(q, in[i], rigid))) << (rigid ? "point " : "direction ") << i;
         ASSERT_TRUE(same_bits(out[n], guard)) << "written past the end";
-        std::vector<Vec3<float>> same(in.begin(), in.end());
+        std::vector<Vec3<S>> same(in.begin(), in.end());
         same.push_back(guard);
         run(std::span(same).first(n), std::span(same).first(n));
-        for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(same[i], expected(in[i]))) << "in place, " << i;
+        for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(same[i], moved(q, in[i], rigid))) << "in place, " << i;
         ASSERT_TRUE(same_bits(same[n], guard)) << "in place, written past the end";
       }
     }
   });
+}
+TEST(Simd, OneTransformMovesAPointCloud) {
+  check_point_cloud<float>();
+  check_point_cloud<double>();
+}
+
+// The kernels in double (2, 4 or 8 lanes a vector) on every target and every n of kSizes (the
+// tails, which run the scalar formula, too): compose, inverse, transform_points and
+// transform_directions bit for bit the double formulas written out without SLP, nothing past n
+// written; where FMA is not enabled, bit for bit the library's scalar functions as well (with FMA,
+// GCC fuses parts of those where it inlines them: docs/design.md); and in place.
+TEST(Simd, KernelsInDoubleAreTheScalarFormulasBitForBit) {
+  constexpr std::size_t kMax = 1003;
+  const BatchOf<double> a(kMax, 51), b(kMax, 52), untouched(kMax, 53);
+  test::Random rng(54);
+  std::vector<double> p[3];
+  for (auto& v : p) v.resize(kMax);
+  for (std::size_t i = 0; i < kMax; ++i) {
+    const Vec3<double> x = rng.vec3<double>(10);
+    p[0][i] = x.x, p[1][i] = x.y, p[2][i] = x.z;
+  }
+  const auto point = [&](const std::vector<double>* v, std::size_t i) { return Vec3<double>{v[0][i], v[1][i], v[2][i]}; };
+  [[maybe_unused]] constexpr bool kScalarUnfused =
+#if defined(__FMA__)
+      false;
+#else
+      true;
+#endif
+  for_each_target([&](Target) {
+    for (const std::size_t n : kSizes) {
+      SCOPED_TRACE("n " + std::to_string(n));
+      BatchOf<double> out = untouched;
+      simd::compose(a.rows(), b.rows(), out.rows(), n);
+      for (std::size_t i = 0; i < kMax; ++i) {
+        ASSERT_TRUE(same_bits(out.get(i), i < n ? test::product_reference(a.get(i), b.get(i)) : untouched.get(i))) << "compose " << i;
+        if (kScalarUnfused && i < n) {
+          ASSERT_TRUE(same_bits(out.get(i), a.get(i) * b.get(i))) << "compose, scalar, " << i;
+        }
+      }
+      out = untouched;
+      simd::inverse(a.rows(), out.rows(), n);
+      for (std::size_t i = 0; i < kMax; ++i)
+        ASSERT_TRUE(same_bits(out.get(i), i < n ? a.get(i).inverse_unit() : untouched.get(i))) << "inverse " << i;
+      for (const bool rigid : {true, false}) {
+        std::vector<double> o[3];
+        for (auto& v : o) v.assign(kMax, -1.0);
+        const std::array<const double*, 3> from{p[0].data(), p[1].data(), p[2].data()};
+        const std::array<double*, 3> to{o[0].data(), o[1].data(), o[2].data()};
+        rigid ? simd::transform_points(a.rows(), from, to, n) : simd::transform_directions(a.rows(), from, to, n);
+        for (std::size_t i = 0; i < kMax; ++i) {
+          const Vec3<double> got = point(o, i);
+          ASSERT_TRUE(same_bits(got, i < n ? moved(a.get(i), point(p, i), rigid) : Vec3<double>{-1, -1, -1}))
+              << (rigid ? "point " : "direction ") << i;
+          if (kScalarUnfused && i < n) {
+            ASSERT_TRUE(same_bits(got, rigid ? a.get(i).transform_point(point(p, i)) : a.get(i).transform_direction(point(p, i))))
+                << (rigid ? "point, scalar, " : "direction, scalar, ") << i;
+          }
+        }
+      }
+    }
+    // In place: the output is an input.
+    BatchOf<double> in_place = a;
+    simd::compose(std::as_const(in_place).rows(), b.rows(), in_place.rows(), kMax);
+    for (std::size_t i = 0; i < kMax; ++i) ASSERT_TRUE(same_bits(in_place.get(i), test::product_reference(a.get(i), b.get(i)))) << i;
+    in_place = a;
+    simd::inverse(std::as_const(in_place).rows(), in_place.rows(), kMax);
+    for (std::size_t i = 0; i < kMax; ++i) ASSERT_TRUE(same_bits(in_place.get(i), a.get(i).conjugate())) << i;
+    std::vector<double> w[3] = {p[0], p[1], p[2]};
+    simd::transform_points(a.rows(), {w[0].data(), w[1].data(), w[2].data()}, {w[0].data(), w[1].data(), w[2].data()}, kMax);
+    for (std::size_t i = 0; i < kMax; ++i) ASSERT_TRUE(same_bits(point(w, i), moved(a.get(i), point(p, i), true))) << i;
+  });
+}
+
+// compose, inverse, transform_points and transform_directions over arrays of structures, in float
+// and double, on every target: each element bit for bit what the scalar formula gives (the scalar
+// functions in float; in double the formulas written out without SLP, tests/support.hpp), for
+// counts around the vector widths, the element past the end untouched, in place too; and the
+// preconditions (sizes, overlaps) refused.
+template <class S>
+DualQuaternion<S> composed(const DualQuaternion<S>& a, const DualQuaternion<S>& b) {
+  if constexpr (std::is_same_v<S, double>)
+    return test::product_reference(a, b);
+  else
+    return a * b;
+}
+template <class S>
+void check_arrays_of_structures() {
+  test::Random rng(61);
+  constexpr std::size_t kMax = 1003;
+  std::vector<DualQuaternion<S>> a(kMax), b(kMax);
+  std::vector<Vec3<S>> p(kMax);
+  for (std::size_t i = 0; i < kMax; ++i) a[i] = rng.rigid<S>(5), b[i] = rng.rigid<S>(5), p[i] = rng.vec3<S>(10);
+  const DualQuaternion<S> guard(S(-0.0), std::numeric_limits<S>::infinity(), 7, 0, 0, 0, 0, 1);
+  const Vec3<S> guard_point{S(-0.0), std::numeric_limits<S>::infinity(), 7};
+  for_each_target([&](Target t) {
+    for (const std::size_t n : {0u, 1u, 2u, 3u, 4u, 5u, 7u, 8u, 9u, 15u, 16u, 17u, 31u, 33u, 1003u}) {
+      SCOPED_TRACE(std::string(simd::to_string(t)) + ", " + std::to_string(n) + " elements of " + (sizeof(S) == 4 ? "float" : "double"));
+      const std::span<const DualQuaternion<S>> qa(a.data(), n), qb(b.data(), n);
+      const std::span<const Vec3<S>> in(p.data(), n);
+      std::vector<DualQuaternion<S>> out(n + 1, guard);
+      simd::compose(qa, qb, std::span(out).first(n));
+      for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(out[i], composed(a[i], b[i]))) << "compose " << i;
+      ASSERT_TRUE(same_bits(out[n], guard)) << "compose wrote past the end";
+      simd::inverse(qa, std::span(out).first(n));
+      for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(out[i], a[i].inverse_unit())) << "inverse " << i;
+      ASSERT_TRUE(same_bits(out[n], guard)) << "inverse wrote past the end";
+      for (const bool rigid : {true, false}) {
+        std::vector<Vec3<S>> moved_out(n + 1, guard_point);
+        rigid ? simd::transform_points(qa, in, std::span(moved_out).first(n)) : simd::transform_directions(qa, in, std::span(moved_out).first(n));
+        for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(moved_out[i], moved(a[i], p[i], rigid))) << (rigid ? "point " : "direction ") << i;
+        ASSERT_TRUE(same_bits(moved_out[n], guard_point)) << "wrote past the end";
+        // In place: the points are the output.
+        std::vector<Vec3<S>> same(in.begin(), in.end());
+        rigid ? simd::transform_points(qa, same, same) : simd::transform_directions(qa, same, same);
+        for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(same[i], moved(a[i], p[i], rigid))) << "in place, " << i;
+      }
+      // In place: the product into a, the inverse into q.
+      std::vector<DualQuaternion<S>> x(qa.begin(), qa.end());
+      simd::compose(x, qb, x);
+      for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(x[i], composed(a[i], b[i]))) << "compose in place " << i;
+      simd::inverse(x, x);
+      for (std::size_t i = 0; i < n; ++i) ASSERT_TRUE(same_bits(x[i], composed(a[i], b[i]).inverse_unit())) << "inverse in place " << i;
+    }
+  });
+}
+struct Refused : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+TEST(Simd, ArraysOfStructuresTakeTheKernels) {
+  check_arrays_of_structures<float>();
+  check_arrays_of_structures<double>();
+  // The preconditions, with a handler that throws (the default aborts), restored after.
+  const PreconditionHandler previous = set_precondition_handler([](const PreconditionViolation& v) { throw Refused(v.message); });
+  std::vector<DualQuaternion<double>> q(9, DualQuaternion<double>::identity());
+  std::vector<Vec3<double>> v(9);
+  const std::span<DualQuaternion<double>> all(q);
+  EXPECT_THROW(simd::compose(all.first(8), all.first(8), std::span(q).subspan(1, 7)), Refused);  // sizes
+  EXPECT_THROW(simd::compose(all.first(8), all.first(8), all.subspan(1)), Refused);               // out partly over a
+  EXPECT_THROW(simd::inverse(all.first(8), all.subspan(1)), Refused);
+  EXPECT_THROW(simd::transform_points(all.first(8), std::span(v).first(8), std::span(v).subspan(1)), Refused);
+  EXPECT_THROW(simd::transform_directions(all.first(3), std::span(v).first(3), std::span(reinterpret_cast<Vec3<double>*>(q.data()), 3)),
+               Refused);  // out over q
+  EXPECT_THROW(simd::compose(all.first(8), all.subspan(1), all.first(8)), Refused);  // out is a, but partly over b
+  const std::vector<DualQuaternion<double>> other(8, DualQuaternion<double>::identity());
+  EXPECT_NO_THROW(simd::compose(all.first(8), other, all.first(8)));  // out is a exactly, apart from b
+  set_precondition_handler(previous);
 }
 
 TEST(Simd, DispatchReportsWhatTheCpuHas) {

@@ -76,101 +76,93 @@ using RowMajor34 = RowMajor<T, 3, 4>;
 
 const std::vector<const char*> dq_shape{"N", "8"}, q_shape{"N", "4"}, p_shape{"N", "3"}, t_shape{"N"};
 
-// float32 rows through the dq::simd kernels, which compute the scalar functions bit for bit
-// (tests/test_simd.cpp) on the widest instruction set the CPU has: NumPy's rows (arrays of
-// structures) converted to component arrays on the stack and back (dq::simd::to_rows, from_rows),
-// kChunk rows at a time, so that nothing is allocated.
+// Rows through the dq::simd kernels, which compute the scalar functions bit for bit
+// (tests/test_simd.cpp) on the widest instruction set the CPU has. compose, conjugate and the
+// transforms of points and directions, float32 and float64: the kernels over arrays of structures,
+// which read NumPy's rows in place (transposed in registers). normalized and dlb, float32: the
+// kernels over component arrays, the rows converted on the stack and back (dq::simd::to_rows,
+// from_rows), kChunk rows at a time, so that nothing is allocated.
 constexpr std::size_t kChunk = 256;
-/// C component arrays of kChunk floats.
-template <std::size_t C>
+/// Eight component arrays of kChunk floats.
 struct Chunk {
-  alignas(64) std::array<std::array<float, kChunk>, C> c;
-  std::array<float*, C> starts() {
-    std::array<float*, C> s;
-    for (std::size_t k = 0; k < C; ++k) s[k] = c[k].data();
-    return s;
-  }
-  std::array<const float*, C> starts() const {
-    std::array<const float*, C> s;
-    for (std::size_t k = 0; k < C; ++k) s[k] = c[k].data();
-    return s;
-  }
-  dq::simd::Rows rows() requires(C == 8) { return dq::detail::row_of<float>(c, 0); }
-  dq::simd::ConstRows rows() const requires(C == 8) { return dq::detail::row_of<const float>(c, 0); }
+  alignas(64) std::array<std::array<float, kChunk>, 8> c;
+  dq::simd::Rows rows() { return dq::detail::row_of<float>(c, 0); }
+  dq::simd::ConstRows rows() const { return dq::detail::row_of<const float>(c, 0); }
 };
 /// chunk(first, count) over [0, n) in pieces of at most kChunk rows.
 template <class F>
 void in_chunks(std::size_t n, F chunk) {
   for (std::size_t i = 0; i < n; i += kChunk) chunk(i, std::min(kChunk, n - i));
 }
-/// out[i] = kernel(q[i], p[i]) for a kernel over dual quaternions and points (transform_points, transform_directions).
-auto points32(void (*kernel)(dq::simd::ConstRows, std::array<const float*, 3>, std::array<float*, 3>, std::size_t)) {
-  return [kernel](const DQ<float>* q, const V<float>* p, V<float>* out, std::size_t n) {
-    Chunk<8> cq;
-    Chunk<3> cp;
-    in_chunks(n, [&](std::size_t i, std::size_t m) {
-      dq::simd::to_rows({q + i, m}, cq.rows());
-      dq::simd::to_rows({p + i, m}, cp.starts());
-      kernel(std::as_const(cq).rows(), std::as_const(cp).starts(), cp.starts(), m);
-      dq::simd::from_rows(std::as_const(cp).starts(), {out + i, m});
-    });
+template <class T>
+using Rows = std::span<const DQ<T>>;
+constexpr auto compose_rows = []<class T>(const DQ<T>* a, const DQ<T>* b, DQ<T>* out, std::size_t n) {
+  dq::simd::compose(Rows<T>(a, n), Rows<T>(b, n), std::span<DQ<T>>(out, n));
+};
+constexpr auto conjugate_rows = []<class T>(const DQ<T>* q, DQ<T>* out, std::size_t n) {
+  dq::simd::inverse(Rows<T>(q, n), std::span<DQ<T>>(out, n));  // Q*, bit for bit
+};
+/// out[i] = q[i] applied to p[i]: the point (Rigid) or the direction.
+template <bool Rigid>
+auto transform_rows() {
+  return []<class T>(const DQ<T>* q, const V<T>* p, V<T>* out, std::size_t n) {
+    if constexpr (Rigid)
+      dq::simd::transform_points(Rows<T>(q, n), std::span<const V<T>>(p, n), std::span<V<T>>(out, n));
+    else
+      dq::simd::transform_directions(Rows<T>(q, n), std::span<const V<T>>(p, n), std::span<V<T>>(out, n));
   };
 }
-/// out[i] = kernel(q, p[i]) for one q and rows of points, which the kernel reads and writes directly.
-auto cloud32(void (*kernel)(const DQ<float>&, std::span<const V<float>>, std::span<V<float>>)) {
-  return [kernel](const DQ<float>& q, const V<float>* p, V<float>* out, std::size_t n) { kernel(q, {p, n}, {out, n}); };
-}
-/// out[i] = kernel(q[i]) for a kernel from dual quaternions to dual quaternions (normalize, inverse).
-template <class Kernel>
-auto unary32(Kernel kernel) {
-  return [kernel](const DQ<float>* q, DQ<float>* out, std::size_t n) {
-    Chunk<8> c;
-    in_chunks(n, [&](std::size_t i, std::size_t m) {
-      dq::simd::to_rows({q + i, m}, c.rows());
-      kernel(std::as_const(c).rows(), c.rows(), m);
-      dq::simd::from_rows(std::as_const(c).rows(), {out + i, m});
-    });
+/// out[i] = q applied to p[i] for one q and rows of points, which the kernel reads and writes directly.
+template <bool Rigid>
+auto transform_cloud() {
+  return []<class T>(const DQ<T>& q, const V<T>* p, V<T>* out, std::size_t n) {
+    if constexpr (Rigid)
+      dq::simd::transform_points(q, std::span<const V<T>>(p, n), std::span<V<T>>(out, n));
+    else
+      dq::simd::transform_directions(q, std::span<const V<T>>(p, n), std::span<V<T>>(out, n));
   };
 }
-/// out[i] = kernel(a[i], b[i]) for a kernel over two arrays of dual quaternions (compose, dlb with its t).
-template <class Kernel>
-void pairs32(const DQ<float>* a, const DQ<float>* b, DQ<float>* out, std::size_t n, Kernel kernel) {
-  Chunk<8> ca, cb;
+void normalize32(const DQ<float>* q, DQ<float>* out, std::size_t n) {
+  Chunk c;
+  in_chunks(n, [&](std::size_t i, std::size_t m) {
+    dq::simd::to_rows({q + i, m}, c.rows());
+    dq::simd::normalize(std::as_const(c).rows(), c.rows(), m);
+    dq::simd::from_rows(std::as_const(c).rows(), {out + i, m});
+  });
+}
+void dlb32(const DQ<float>* a, const DQ<float>* b, float t, DQ<float>* out, std::size_t n) {
+  Chunk ca, cb;
   in_chunks(n, [&](std::size_t i, std::size_t m) {
     dq::simd::to_rows({a + i, m}, ca.rows());
     dq::simd::to_rows({b + i, m}, cb.rows());
-    kernel(std::as_const(ca).rows(), std::as_const(cb).rows(), ca.rows(), m);
+    dq::simd::dlb(std::as_const(ca).rows(), std::as_const(cb).rows(), t, ca.rows(), m);
     dq::simd::from_rows(std::as_const(ca).rows(), {out + i, m});
   });
-}
-void compose32(const DQ<float>* a, const DQ<float>* b, DQ<float>* out, std::size_t n) { pairs32(a, b, out, n, dq::simd::compose); }
-void dlb32(const DQ<float>* a, const DQ<float>* b, float t, DQ<float>* out, std::size_t n) {
-  pairs32(a, b, out, n, [t](dq::simd::ConstRows x, dq::simd::ConstRows y, dq::simd::Rows o, std::size_t m) { dq::simd::dlb(x, y, t, o, m); });
 }
 
 void bind_products(py::module_& m) {
   m.def("compose", [](ArrayLike a, ArrayLike b) {
-    return map2<DQ, DQ, DQ>(a, b, "a", "b", dq_shape, dq_shape, {8}, [](const auto& x, const auto& y) { return x * y; }, compose32);
+    return map2<DQ, DQ, DQ>(a, b, "a", "b", dq_shape, dq_shape, {8}, [](const auto& x, const auto& y) { return x * y; }, compose_rows);
   }, py::arg("a"), py::arg("b"), "Row-wise products a[i] b[i] of (N, 8) dual quaternions (b applied first).");
   m.def("quaternion_product", [](ArrayLike a, ArrayLike b) {
     return map2<Q, Q, Q>(a, b, "a", "b", q_shape, q_shape, {4}, [](const auto& x, const auto& y) { return x * y; });
   }, py::arg("a"), py::arg("b"), "Row-wise Hamilton products of (N, 4) quaternions.");
   m.def("transform_points", [](ArrayLike q, ArrayLike p) {
     return map2<DQ, V, V>(q, p, "q", "p", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_point(y); },
-                          points32(dq::simd::transform_points), cloud32(dq::simd::transform_points));
+                          transform_rows<true>(), transform_cloud<true>());
   }, py::arg("q"), py::arg("p"), "R p + t for (N, 8) unit dual quaternions and (N, 3) points.");
   m.def("transform_directions", [](ArrayLike q, ArrayLike v) {
     return map2<DQ, V, V>(q, v, "q", "v", dq_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.transform_direction(y); },
-                          points32(dq::simd::transform_directions), cloud32(dq::simd::transform_directions));
+                          transform_rows<false>(), transform_cloud<false>());
   }, py::arg("q"), py::arg("v"), "R v for (N, 8) unit dual quaternions and (N, 3) directions.");
   m.def("rotate", [](ArrayLike q, ArrayLike v) {
     return map2<Q, V, V>(q, v, "q", "v", q_shape, p_shape, {3}, [](const auto& x, const auto& y) { return x.rotate(y); });
   }, py::arg("q"), py::arg("v"), "q v q* for (N, 4) unit quaternions and (N, 3) vectors.");
   m.def("normalized", [](ArrayLike q) {
-    return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.normalized(); }, unary32(dq::simd::normalize));
+    return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.normalized(); }, normalize32);
   }, py::arg("q"), "Each (N, 8) dual quaternion made unit (DualQuaternion.normalized).");
   m.def("conjugate", [](ArrayLike q) {
-    return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.conjugate(); }, unary32(dq::simd::inverse));  // Q*, bit for bit
+    return map1<DQ, DQ>(q, "q", dq_shape, {8}, [](const auto& x) { return x.conjugate(); }, conjugate_rows);
   }, py::arg("q"), "Q* of each (N, 8) dual quaternion: the inverse of a unit one.");
 }
 

@@ -28,34 +28,39 @@ inline std::vector<py::ssize_t> out_shape(const std::vector<py::ssize_t>& leadin
   return s;
 }
 
-/// out[i] = f(a[i]) over the rows of `a`, items reinterpreted as A<T> and R<T>. `rows32`, where
-/// given, computes the same for float32 rows in one call (`rows32(x, o, n)`: a dq::simd kernel,
-/// bit for bit f).
-template <template <class> class A, template <class> class R, class F, class Rows32 = std::nullptr_t>
+/// Whether `rows`, a batch function's kernel over whole arrays of rows (a dq::simd kernel, bit for
+/// bit its per-row function), takes arguments `A...` (rows of the call's dtype): nullptr for none.
+template <class Rows, class... A>
+constexpr bool kHasRows = !std::is_null_pointer_v<Rows> && std::is_invocable_v<Rows&, A...>;
+
+/// out[i] = f(a[i]) over the rows of `a`, items reinterpreted as A<T> and R<T>. `rows`, where
+/// given, computes the same in one call (`rows(x, o, n)`) for the dtypes it takes.
+template <template <class> class A, template <class> class R, class F, class Rows = std::nullptr_t>
 py::array map1(py::handle a, const char* name, const std::vector<const char*>& shape, const std::vector<py::ssize_t>& tail, F f,
-               Rows32 rows32 = nullptr) {
+               Rows rows = nullptr) {
   return with_dtype(call_dtype(a, name), [&]<class T>() -> py::array {
     const BatchInput in = batch_input(a, shape, dtype_of_v<T>, name, true);
     py::array_t<T> out(out_shape(in.leading, tail));
     const A<T>* x = as_values<A<T>>(data_of<T>(in));
     R<T>* o = as_values<R<T>>(out.mutable_data());
     py::gil_scoped_release release;
-    if constexpr (std::is_same_v<T, float> && !std::is_null_pointer_v<Rows32>)
-      rows32(x, o, in.count);
+    if constexpr (kHasRows<Rows, const A<T>*, R<T>*, std::size_t>)
+      rows(x, o, in.count);
     else
       for (std::size_t i = 0; i < in.count; ++i) o[i] = f(x[i]);
     return out;
   });
 }
 
-/// out[i] = f(a[i], b[i]); a single a or b is used for every row. `rows32`, where given, computes
-/// the same for float32 rows of a and b in one call (`rows32(x, y, o, n)`), unless a or b is single;
-/// `one_by_rows32`, where given, for one float32 a and rows of b (`one_by_rows32(x, y, o, n)`).
-template <template <class> class A, template <class> class B, template <class> class R, class F, class Rows32 = std::nullptr_t,
-          class OneByRows32 = std::nullptr_t>
+/// out[i] = f(a[i], b[i]); a single a or b is used for every row. `rows`, where given, computes
+/// the same for rows of a and b in one call (`rows(x, y, o, n)`), unless a or b is single;
+/// `one_by_rows`, where given, for one a and rows of b (`one_by_rows(x, y, o, n)`); each for the
+/// dtypes it takes.
+template <template <class> class A, template <class> class B, template <class> class R, class F, class Rows = std::nullptr_t,
+          class OneByRows = std::nullptr_t>
 py::array map2(py::handle a, py::handle b, const char* na, const char* nb, const std::vector<const char*>& sa,
-               const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f, Rows32 rows32 = nullptr,
-               OneByRows32 one_by_rows32 = nullptr) {
+               const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f, Rows rows = nullptr,
+               OneByRows one_by_rows = nullptr) {
   return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
     const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);
     const std::vector<py::ssize_t> leading = common_leading({{&ia, na}, {&ib, nb}});
@@ -66,15 +71,15 @@ py::array map2(py::handle a, py::handle b, const char* na, const char* nb, const
     const B<T>* y = as_values<B<T>>(data_of<T>(ib));
     R<T>* o = as_values<R<T>>(out.mutable_data());
     py::gil_scoped_release release;
-    if constexpr (std::is_same_v<T, float> && !std::is_null_pointer_v<Rows32>) {
+    if constexpr (kHasRows<Rows, const A<T>*, const B<T>*, R<T>*, std::size_t>) {
       if (da == 1 && db == 1) {
-        rows32(x, y, o, n);
+        rows(x, y, o, n);
         return out;
       }
     }
-    if constexpr (std::is_same_v<T, float> && !std::is_null_pointer_v<OneByRows32>) {
+    if constexpr (kHasRows<OneByRows, const A<T>&, const B<T>*, R<T>*, std::size_t>) {
       if (da == 0 && db == 1) {
-        one_by_rows32(x[0], y, o, n);
+        one_by_rows(x[0], y, o, n);
         return out;
       }
     }
@@ -99,12 +104,12 @@ py::object interpolation_parameter(const py::object& t) {
   return py::array_t<T>(std::vector<py::ssize_t>{}, &value);
 }
 
-/// out[i] = f(a[i], b[i], t[i]) with t a number or an (N,) array. `rows32`, where given, computes
-/// the same for float32 rows of a and b and one t in one call (`rows32(x, y, t, o, n)`).
-template <template <class> class A, template <class> class B, template <class> class R, class F, class Rows32 = std::nullptr_t>
+/// out[i] = f(a[i], b[i], t[i]) with t a number or an (N,) array. `rows`, where given, computes
+/// the same for rows of a and b and one t in one call (`rows(x, y, t, o, n)`) for the dtypes it takes.
+template <template <class> class A, template <class> class B, template <class> class R, class F, class Rows = std::nullptr_t>
 py::array map3(py::handle a, py::handle b, const py::object& t, const char* na, const char* nb,
                const std::vector<const char*>& sa, const std::vector<const char*>& sb, const std::vector<py::ssize_t>& tail, F f,
-               Rows32 rows32 = nullptr) {
+               Rows rows = nullptr) {
   return with_dtype(call_dtype(a, na), [&]<class T>() -> py::array {
     const BatchInput ia = batch_input(a, sa, dtype_of_v<T>, na, true), ib = batch_input(b, sb, dtype_of_v<T>, nb, true);
     const BatchInput it = batch_input(interpolation_parameter<T>(t), {"N"}, dtype_of_v<T>, "t", true);
@@ -117,9 +122,9 @@ py::array map3(py::handle a, py::handle b, const py::object& t, const char* na, 
     const T* s = data_of<T>(it);
     R<T>* o = as_values<R<T>>(out.mutable_data());
     py::gil_scoped_release release;
-    if constexpr (std::is_same_v<T, float> && !std::is_null_pointer_v<Rows32>) {
+    if constexpr (kHasRows<Rows, const A<T>*, const B<T>*, T, R<T>*, std::size_t>) {
       if (da == 1 && db == 1 && dt == 0) {
-        rows32(x, y, s[0], o, n);
+        rows(x, y, s[0], o, n);
         return out;
       }
     }

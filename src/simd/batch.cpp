@@ -26,18 +26,29 @@ namespace {
 
 // ---- element access --------------------------------------------------------------------------------
 
-DualQuaternion<float> get(ConstRows r, std::size_t i) { return {r.rw[i], r.rx[i], r.ry[i], r.rz[i], r.dw[i], r.dx[i], r.dy[i], r.dz[i]}; }
-void put(Rows r, std::size_t i, const DualQuaternion<float>& q) {
+template <class S>
+DualQuaternion<S> get(detail::Row8<const S> r, std::size_t i) {
+  return {r.rw[i], r.rx[i], r.ry[i], r.rz[i], r.dw[i], r.dx[i], r.dy[i], r.dz[i]};
+}
+template <class S>
+void put(detail::Row8<S> r, std::size_t i, const DualQuaternion<S>& q) {
   r.rw[i] = q.real.w, r.rx[i] = q.real.x, r.ry[i] = q.real.y, r.rz[i] = q.real.z;
   r.dw[i] = q.dual.w, r.dx[i] = q.dual.x, r.dy[i] = q.dual.y, r.dz[i] = q.dual.z;
 }
 Quaternion<float> get(QuaternionRows<const float> r, std::size_t i) { return {r.w[i], r.x[i], r.y[i], r.z[i]}; }
 void put(QuaternionRows<float> r, std::size_t i, const Quaternion<float>& q) { r.w[i] = q.w, r.x[i] = q.x, r.y[i] = q.y, r.z[i] = q.z; }
-using Xyz = std::array<const float*, 3>;
-using OutXyz = std::array<float*, 3>;
+/// The x, y and z arrays of points or directions (S: float or double, const for reading).
+template <class S>
+using Coordinates = std::array<S*, 3>;
 using Matrices = std::array<float*, 12>;
-Vec3<float> get(Xyz p, std::size_t i) { return {p[0][i], p[1][i], p[2][i]}; }
-void put(OutXyz p, std::size_t i, const Vec3<float>& v) { p[0][i] = v.x, p[1][i] = v.y, p[2][i] = v.z; }
+template <class S>
+Vec3<S> get(Coordinates<const S> p, std::size_t i) {
+  return {p[0][i], p[1][i], p[2][i]};
+}
+template <class S>
+void put(Coordinates<S> p, std::size_t i, const Vec3<S>& v) {
+  p[0][i] = v.x, p[1][i] = v.y, p[2][i] = v.z;
+}
 
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
 using kernels::Lanes;
@@ -52,7 +63,6 @@ using kernels::product;
 using kernels::store;
 using kernels::store8;
 using kernels::store_records;
-using kernels::vec;
 
 // Coefficients in float: atan(z)/z in z² (for z ≤ tan π/8), cos h and sin h / h in h² (for h ≤ π/2).
 constexpr auto kAtanc = detail::series_coefficients<float, 10>([](std::size_t k) { return (k % 2 ? -1.0f : 1.0f) / float(2 * k + 1); });
@@ -71,12 +81,12 @@ template <int N>
 [[gnu::always_inline]] inline void store4(QuaternionRows<float> r, std::size_t i, const Quaternion<Lanes<N>>& q) {
   store<N>(r.w + i, q.w), store<N>(r.x + i, q.x), store<N>(r.y + i, q.y), store<N>(r.z + i, q.z);
 }
-template <int N>
-[[gnu::always_inline]] inline Vec3<Lanes<N>> load3(Xyz p, std::size_t i) {
+template <int N, class S>
+[[gnu::always_inline]] inline Vec3<Lanes<N, S>> load3(Coordinates<const S> p, std::size_t i) {
   return {load<N>(p[0] + i), load<N>(p[1] + i), load<N>(p[2] + i)};
 }
-template <int N>
-[[gnu::always_inline]] inline void store3(OutXyz p, std::size_t i, const Vec3<Lanes<N>>& v) {
+template <int N, class S>
+[[gnu::always_inline]] inline void store3(Coordinates<S> p, std::size_t i, const Vec3<Lanes<N, S>>& v) {
   store<N>(p[0] + i, v.x), store<N>(p[1] + i, v.y), store<N>(p[2] + i, v.z);
 }
 /// Whether any lane of x is not +0.0 (any bit set): an OR of its 64-bit words, a few instructions.
@@ -179,79 +189,151 @@ template <int N>
 #endif
 
 // ---- the kernels -----------------------------------------------------------------------------------
+// Each names its scalar type (Scalar): the kernels of float and double (S) have N lanes of it on a
+// target, as many as its vectors hold.
 
+template <class S>
 struct Compose {
-  static void scalar(std::size_t first, std::size_t last, ConstRows a, ConstRows b, Rows out) {
-    detail::dual_quaternion_product_rows<float>(a, b, out, first, last);
+  using Scalar = S;
+  static void scalar(std::size_t first, std::size_t last, detail::Row8<const S> a, detail::Row8<const S> b, detail::Row8<S> out) {
+    detail::dual_quaternion_product_rows<S>(a, b, out, first, last);
   }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
   template <int N>
-  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows a, ConstRows b, Rows out) {
+  [[gnu::always_inline]] static void lanes(std::size_t i, detail::Row8<const S> a, detail::Row8<const S> b, detail::Row8<S> out) {
     store8<N>(out, i, product(load8<N>(a, i), load8<N>(b, i)));
   }
 #endif
 };
 
+template <class S>
 struct Inverse {
-  static void scalar(std::size_t first, std::size_t last, ConstRows q, Rows out) {
+  using Scalar = S;
+  static void scalar(std::size_t first, std::size_t last, detail::Row8<const S> q, detail::Row8<S> out) {
     for (std::size_t i = first; i < last; ++i) put(out, i, get(q, i).inverse_unit());
   }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
   template <int N>
-  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows q, Rows out) {
+  [[gnu::always_inline]] static void lanes(std::size_t i, detail::Row8<const S> q, detail::Row8<S> out) {
     store8<N>(out, i, load8<N>(q, i).inverse_unit());
   }
 #endif
 };
 
-struct TransformPoints {
-  static void scalar(std::size_t first, std::size_t last, ConstRows q, Xyz p, OutXyz out) {
-    for (std::size_t i = first; i < last; ++i) put(out, i, get(q, i).transform_point(get(p, i)));
+/// R p + t (Rigid) or R v for points or directions in component arrays, one transform each.
+template <bool Rigid, class S>
+struct TransformRows {
+  using Scalar = S;
+  static void scalar(std::size_t first, std::size_t last, detail::Row8<const S> q, Coordinates<const S> p, Coordinates<S> out) {
+    for (std::size_t i = first; i < last; ++i) {
+      const DualQuaternion<S> t = get(q, i);
+      put(out, i, Rigid ? t.transform_point(get(p, i)) : t.transform_direction(get(p, i)));
+    }
   }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
   template <int N>
-  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows q, Xyz p, OutXyz out) {
-    store3<N>(out, i, load8<N>(q, i).transform_point(load3<N>(p, i)));
-  }
-#endif
-};
-
-struct TransformDirections {
-  static void scalar(std::size_t first, std::size_t last, ConstRows q, Xyz v, OutXyz out) {
-    for (std::size_t i = first; i < last; ++i) put(out, i, get(q, i).transform_direction(get(v, i)));
-  }
-#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-  template <int N>
-  [[gnu::always_inline]] static void lanes(std::size_t i, ConstRows q, Xyz v, OutXyz out) {
-    store3<N>(out, i, load8<N>(q, i).transform_direction(load3<N>(v, i)));  // reads the real part only
+  [[gnu::always_inline]] static void lanes(std::size_t i, detail::Row8<const S> q, Coordinates<const S> p, Coordinates<S> out) {
+    const DualQuaternion<Lanes<N, S>> t = load8<N>(q, i);  // a direction reads the real part only
+    store3<N>(out, i, Rigid ? t.transform_point(load3<N>(p, i)) : t.transform_direction(load3<N>(p, i)));
   }
 #endif
 };
 
 /// One transform for every point or direction (Rigid: R p + t; else R v), the points one after
 /// another (x, y, z) in and out.
-template <bool Rigid>
+template <bool Rigid, class S>
 struct TransformEach {
-  static void scalar(std::size_t first, std::size_t last, DualQuaternion<float> q, const Vec3<float>* in, Vec3<float>* out) {
+  using Scalar = S;
+  static void scalar(std::size_t first, std::size_t last, DualQuaternion<S> q, const Vec3<S>* in, Vec3<S>* out) {
     for (std::size_t i = first; i < last; ++i) out[i] = Rigid ? q.transform_point(in[i]) : q.transform_direction(in[i]);
   }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
   template <int N>
-  [[gnu::always_inline]] static void lanes(std::size_t i, DualQuaternion<float> q, const Vec3<float>* in, Vec3<float>* out) {
-    using L = Lanes<N>;
+  [[gnu::always_inline]] static void lanes(std::size_t i, DualQuaternion<S> q, const Vec3<S>* in, Vec3<S>* out) {
+    using L = Lanes<N, S>;
     const DualQuaternion<L> b{Quaternion<L>(splat<N>(q.real.w), splat<N>(q.real.x), splat<N>(q.real.y), splat<N>(q.real.z)),
                               Quaternion<L>(splat<N>(q.dual.w), splat<N>(q.dual.x), splat<N>(q.dual.y), splat<N>(q.dual.z))};
-    vec<N> p[3];
-    Points<N>::load(&in[i].x, p);  // N points, 3 N floats (Vec3<float> is three floats)
+    kernels::vector_of<S, N> p[3];
+    Points<N, S>::load(&in[i].x, p);  // N points, 3 N values (Vec3<S> is three of them)
     const Vec3<L> v{p[0], p[1], p[2]};
     const Vec3<L> r = Rigid ? b.transform_point(v) : b.transform_direction(v);
-    Points<N>::store(r.x.v, r.y.v, r.z.v, &out[i].x);
+    Points<N, S>::store(r.x.v, r.y.v, r.z.v, &out[i].x);
+  }
+#endif
+};
+
+// Arrays of structures in and out: the dual quaternions one after another (eight values each), the
+// points too (three each), loaded per lane and transposed in registers (records.hpp), with no
+// conversion pass to component arrays. For float and double (S).
+
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+/// Lane j of N dual quaternions from element i + j of an array of them, and back.
+template <int N, class S>
+[[gnu::always_inline]] inline DualQuaternion<Lanes<N, S>> load_dual_quaternions(const DualQuaternion<S>* q, std::size_t i) {
+  kernels::vector_of<S, N> c[8];
+  load_records<N, 8>([&](int j) __attribute__((always_inline)) { return &q[i + static_cast<std::size_t>(j)].real.w; }, c);
+  return kernels::dual_quaternion_of<N, S>(c);
+}
+template <int N, class S>
+[[gnu::always_inline]] inline void store_dual_quaternions(const DualQuaternion<Lanes<N, S>>& x, DualQuaternion<S>* q, std::size_t i) {
+  kernels::vector_of<S, N> c[8];
+  kernels::components_of(x, c);
+  store_records<N, 8>(c, [&](int j) __attribute__((always_inline)) { return &q[i + static_cast<std::size_t>(j)].real.w; });
+}
+#endif
+
+template <class S>
+struct ComposeRecords {
+  using Scalar = S;
+  static void scalar(std::size_t first, std::size_t last, const DualQuaternion<S>* a, const DualQuaternion<S>* b, DualQuaternion<S>* out) {
+    for (std::size_t i = first; i < last; ++i) out[i] = detail::batch_product(a[i], b[i]);
+  }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, const DualQuaternion<S>* a, const DualQuaternion<S>* b, DualQuaternion<S>* out) {
+    store_dual_quaternions<N>(product(load_dual_quaternions<N>(a, i), load_dual_quaternions<N>(b, i)), out, i);
+  }
+#endif
+};
+
+template <class S>
+struct InverseRecords {
+  using Scalar = S;
+  static void scalar(std::size_t first, std::size_t last, const DualQuaternion<S>* q, DualQuaternion<S>* out) {
+    for (std::size_t i = first; i < last; ++i) out[i] = q[i].inverse_unit();
+  }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, const DualQuaternion<S>* q, DualQuaternion<S>* out) {
+    store_dual_quaternions<N>(load_dual_quaternions<N>(q, i).inverse_unit(), out, i);
+  }
+#endif
+};
+
+/// R p + t (Rigid) or R v, each point with its own transform.
+template <bool Rigid, class S>
+struct TransformRecords {
+  using Scalar = S;
+  static void scalar(std::size_t first, std::size_t last, const DualQuaternion<S>* q, const Vec3<S>* p, Vec3<S>* out) {
+    for (std::size_t i = first; i < last; ++i) out[i] = Rigid ? q[i].transform_point(p[i]) : q[i].transform_direction(p[i]);
+  }
+#if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
+  template <int N>
+  [[gnu::always_inline]] static void lanes(std::size_t i, const DualQuaternion<S>* q, const Vec3<S>* p, Vec3<S>* out) {
+    using L = Lanes<N, S>;
+    kernels::vector_of<S, N> c[3];
+    Points<N, S>::load(&p[i].x, c);
+    const Vec3<L> v{c[0], c[1], c[2]};
+    const DualQuaternion<L> t = load_dual_quaternions<N>(q, i);
+    const Vec3<L> r = Rigid ? t.transform_point(v) : t.transform_direction(v);
+    Points<N, S>::store(r.x.v, r.y.v, r.z.v, &out[i].x);
   }
 #endif
 };
 
 /// to_mat34, stored column-major as Mat34::m: out[c · 3 + r] is row r of column c.
 struct ToMatrices {
+  using Scalar = float;
   static void scalar(std::size_t first, std::size_t last, ConstRows q, Matrices out) {
     for (std::size_t i = first; i < last; ++i) {
       const Mat34<float> m = to_mat34(get(q, i));
@@ -274,6 +356,7 @@ struct ToMatrices {
 /// DualQuaternion::normalized. Blocks with a lane that normalized_lanes does not cover (zero, tiny,
 /// huge or non-finite input) run the scalar function (element by element, so in place too).
 struct Normalize {
+  using Scalar = float;
   static void scalar(std::size_t first, std::size_t last, ConstRows q, Rows out) {
     for (std::size_t i = first; i < last; ++i) put(out, i, get(q, i).normalized());
   }
@@ -292,6 +375,7 @@ struct Normalize {
 /// a's sign. Branch-free but for the blocks with a lane that normalized_lanes does not cover, which
 /// run dq::dlb itself.
 struct Dlb {
+  using Scalar = float;
   static void scalar(std::size_t first, std::size_t last, ConstRows a, ConstRows b, float t, Rows out) {
     for (std::size_t i = first; i < last; ++i) put(out, i, dq::dlb(get(a, i), get(b, i), t));
   }
@@ -310,6 +394,7 @@ struct Dlb {
 };
 
 struct Slerp {
+  using Scalar = float;
   static void scalar(std::size_t first, std::size_t last, QuaternionRows<const float> a, QuaternionRows<const float> b, float t,
                      QuaternionRows<float> out) {
     for (std::size_t i = first; i < last; ++i) put(out, i, dq::slerp(get(a, i), get(b, i), t));
@@ -359,6 +444,7 @@ struct Slerp {
 /// on it to first order (t − κ cos φ = O(Ω²), sin φ = O(Ω)). Then a d^t, renormalized as dq::sclerp
 /// does.
 struct Sclerp {
+  using Scalar = float;
   static void scalar(std::size_t first, std::size_t last, ConstRows a, ConstRows b, float t, Rows out) {
     for (std::size_t i = first; i < last; ++i) put(out, i, dq::sclerp(get(a, i), get(b, i), t));
   }
@@ -406,25 +492,22 @@ struct Sclerp {
 #endif
 };
 
-// ---- layout conversions: arrays of structures (C floats an element) and C component arrays ---------
-template <std::size_t C>
-using Components = std::array<float*, C>;
-template <std::size_t C>
-using ConstComponents = std::array<const float*, C>;
+// ---- layout conversions: arrays of structures (C values of S an element) and C component arrays ---
 
-/// out[c][i] = element i's float c.
-template <std::size_t C>
+/// out[c][i] = element i's value c.
+template <std::size_t C, class S>
 struct ToRows {
-  static void scalar(std::size_t first, std::size_t last, const float* in, Components<C> out) {
+  using Scalar = S;
+  static void scalar(std::size_t first, std::size_t last, const S* in, std::array<S*, C> out) {
     for (std::size_t i = first; i < last; ++i)
-      for (std::size_t c = 0; c < C; ++c) std::memcpy(out[c] + i, in + C * i + c, sizeof(float));
+      for (std::size_t c = 0; c < C; ++c) std::memcpy(out[c] + i, in + C * i + c, sizeof(S));
   }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
   template <int N>
-  [[gnu::always_inline]] static void lanes(std::size_t i, const float* in, Components<C> out) {
-    vec<N> x[C];
+  [[gnu::always_inline]] static void lanes(std::size_t i, const S* in, std::array<S*, C> out) {
+    kernels::vector_of<S, N> x[C];
     if constexpr (C == 3)
-      Points<N>::load(in + 3 * i, x);
+      Points<N, S>::load(in + 3 * i, x);
     else
       load_records<N, C>([&](int j) __attribute__((always_inline)) { return in + C * (i + static_cast<std::size_t>(j)); }, x);
 #pragma GCC unroll 8  // rolled, GCC 12 kept x and the array starts in memory (AVX2: 0.54 × SSE2's speed)
@@ -433,21 +516,22 @@ struct ToRows {
 #endif
 };
 
-/// Element i's float c = in[c][i].
-template <std::size_t C>
+/// Element i's value c = in[c][i].
+template <std::size_t C, class S>
 struct FromRows {
-  static void scalar(std::size_t first, std::size_t last, ConstComponents<C> in, float* out) {
+  using Scalar = S;
+  static void scalar(std::size_t first, std::size_t last, std::array<const S*, C> in, S* out) {
     for (std::size_t i = first; i < last; ++i)
-      for (std::size_t c = 0; c < C; ++c) std::memcpy(out + C * i + c, in[c] + i, sizeof(float));
+      for (std::size_t c = 0; c < C; ++c) std::memcpy(out + C * i + c, in[c] + i, sizeof(S));
   }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
   template <int N>
-  [[gnu::always_inline]] static void lanes(std::size_t i, ConstComponents<C> in, float* out) {
-    vec<N> x[C];
+  [[gnu::always_inline]] static void lanes(std::size_t i, std::array<const S*, C> in, S* out) {
+    kernels::vector_of<S, N> x[C];
 #pragma GCC unroll 8
-    for (std::size_t c = 0; c < C; ++c) x[c] = load_as<vec<N>>(in[c] + i);
+    for (std::size_t c = 0; c < C; ++c) x[c] = load_as<kernels::vector_of<S, N>>(in[c] + i);
     if constexpr (C == 3)
-      Points<N>::store(x[0], x[1], x[2], out + 3 * i);
+      Points<N, S>::store(x[0], x[1], x[2], out + 3 * i);
     else
       store_records<N, C>(x, [&](int j) __attribute__((always_inline)) { return out + C * (i + static_cast<std::size_t>(j)); });
   }
@@ -457,18 +541,19 @@ struct FromRows {
 // ---- dispatch --------------------------------------------------------------------------------------
 
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-/// Kernel K over n elements with N lanes at a time; the tail runs its scalar formula.
+/// Kernel K over the whole vectors of N lanes in n elements; returns the elements done.
 template <int N, class K, class... A>
-[[gnu::always_inline]] inline void run_lanes(std::size_t n, A... args) {
+[[gnu::always_inline]] inline std::size_t run_lanes(std::size_t n, A... args) {
   std::size_t i = 0;
   for (; i + N <= n; i += N) K::template lanes<N>(i, args...);
-  K::scalar(i, n, args...);
+  return i;
 }
-// One function per instruction set, for any kernel.
-#define DQKIT_TARGET(name, width, attribute)                                \
-  template <class K, class... A>                                            \
-  [[gnu::target(attribute), gnu::flatten]] void run_##name(std::size_t n, A... args) { \
-    run_lanes<width, K>(n, args...);                                        \
+// One function per instruction set, for any kernel: `width` floats a vector, so half as many
+// doubles.
+#define DQKIT_TARGET(name, width, attribute)                                                   \
+  template <class K, class... A>                                                               \
+  [[gnu::target(attribute), gnu::flatten]] std::size_t run_##name(std::size_t n, A... args) { \
+    return run_lanes<width * 4 / static_cast<int>(sizeof(typename K::Scalar)), K>(n, args...); \
   }
 DQKIT_TARGET(sse2, 4, "sse2")
 DQKIT_TARGET(sse42, 4, "sse4.2")
@@ -492,18 +577,38 @@ std::atomic<Target>& active() {
   return t;
 }
 
+/// Elements [first, n) of a kernel in double by its scalar formula: the tail after the whole
+/// vectors, or every element on the scalar target. Out of line and without GCC's SLP vectorizer
+/// (DQKIT_NO_SLP), so that in a build with FMA the elements left to it keep the bits of those on
+/// the lanes: GCC 12 fused the double product there in the frames' scalar tail
+/// (src/simd/pose_blocks.cpp). Here it fused nothing without the attribute either (-mavx2 -mfma:
+/// no FMA instruction in this file's object with or without it); the attribute keeps that from
+/// depending on GCC's inlining. (The float kernels' scalar formulas are written with vector
+/// operations, which are not fused, and run as they are: through this function, in a trial, the
+/// float scalar target ran 1.3 to 5.6 times slower.)
+template <class K, class... A>
+[[gnu::noinline, DQKIT_NO_SLP]] void scalar_rest(std::size_t first, std::size_t n, A... args) {
+  K::scalar(first, n, args...);
+}
+
 /// Kernel K over n elements on `target`'s function.
 template <class K, class... A>
 void dispatch(Target target, std::size_t n, A... args) {
+  std::size_t done = 0;
   switch (target) {
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-    case Target::avx512: return run_avx512<K>(n, args...);
-    case Target::avx2: return run_avx2<K>(n, args...);
-    case Target::sse42: return run_sse42<K>(n, args...);
-    case Target::sse2: return run_sse2<K>(n, args...);
+    case Target::avx512: done = run_avx512<K>(n, args...); break;
+    case Target::avx2: done = run_avx2<K>(n, args...); break;
+    case Target::sse42: done = run_sse42<K>(n, args...); break;
+    case Target::sse2: done = run_sse2<K>(n, args...); break;
 #endif
-    default: return K::scalar(0, n, args...);
+    default: break;
   }
+  if (done == n) return;
+  if constexpr (std::is_same_v<typename K::Scalar, double>)
+    scalar_rest<K>(done, n, args...);
+  else
+    K::scalar(done, n, args...);
 }
 
 /// The target for the kernels whose polynomials cover t ∈ [0, 1] (a NaN t runs the scalar
@@ -536,14 +641,14 @@ std::string_view to_string(Target t) noexcept {
   return "?";
 }
 
-void compose(ConstRows a, ConstRows b, Rows out, std::size_t n) { dispatch<Compose>(current_target(), n, a, b, out); }
-void inverse(ConstRows q, Rows out, std::size_t n) { dispatch<Inverse>(current_target(), n, q, out); }
+void compose(ConstRows a, ConstRows b, Rows out, std::size_t n) { dispatch<Compose<float>>(current_target(), n, a, b, out); }
+void inverse(ConstRows q, Rows out, std::size_t n) { dispatch<Inverse<float>>(current_target(), n, q, out); }
 void normalize(ConstRows q, Rows out, std::size_t n) { dispatch<Normalize>(current_target(), n, q, out); }
 void transform_points(ConstRows q, std::array<const float*, 3> p, std::array<float*, 3> out, std::size_t n) {
-  dispatch<TransformPoints>(current_target(), n, q, p, out);
+  dispatch<TransformRows<true, float>>(current_target(), n, q, p, out);
 }
 void transform_directions(ConstRows q, std::array<const float*, 3> v, std::array<float*, 3> out, std::size_t n) {
-  dispatch<TransformDirections>(current_target(), n, q, v, out);
+  dispatch<TransformRows<false, float>>(current_target(), n, q, v, out);
 }
 void slerp(QuaternionRows<const float> a, QuaternionRows<const float> b, float t, QuaternionRows<float> out, std::size_t n) {
   dispatch<Slerp>(target_for(t), n, a, b, t, out);
@@ -552,45 +657,128 @@ void to_matrices(ConstRows q, std::array<float*, 12> out, std::size_t n) { dispa
 void dlb(ConstRows a, ConstRows b, float t, Rows out, std::size_t n) { dispatch<Dlb>(current_target(), n, a, b, t, out); }
 void sclerp(ConstRows a, ConstRows b, float t, Rows out, std::size_t n) { dispatch<Sclerp>(target_for(t), n, a, b, t, out); }
 
-namespace {
-// Elements read and written as the floats they are made of (their components, in order).
-static_assert(sizeof(DualQuaternion<float>) == 8 * sizeof(float) && std::is_trivially_copyable_v<DualQuaternion<float>>);
-static_assert(sizeof(Quaternion<float>) == 4 * sizeof(float) && std::is_trivially_copyable_v<Quaternion<float>>);
-static_assert(sizeof(Vec3<float>) == 3 * sizeof(float) && std::is_trivially_copyable_v<Vec3<float>>);
-template <class E>
-const float* floats_of(std::span<const E> e) {
-  return reinterpret_cast<const float*>(e.data());
+void compose(ConstRowsD a, ConstRowsD b, RowsD out, std::size_t n) { dispatch<Compose<double>>(current_target(), n, a, b, out); }
+void inverse(ConstRowsD q, RowsD out, std::size_t n) { dispatch<Inverse<double>>(current_target(), n, q, out); }
+void transform_points(ConstRowsD q, std::array<const double*, 3> p, std::array<double*, 3> out, std::size_t n) {
+  dispatch<TransformRows<true, double>>(current_target(), n, q, p, out);
 }
-template <class E>
-float* floats_of(std::span<E> e) {
-  return reinterpret_cast<float*>(e.data());
+void transform_directions(ConstRowsD q, std::array<const double*, 3> v, std::array<double*, 3> out, std::size_t n) {
+  dispatch<TransformRows<false, double>>(current_target(), n, q, v, out);
+}
+
+namespace {
+/// Whether `out` is `in` or does not overlap it (element by element in place, or apart).
+template <class A, class B>
+bool same_or_apart(std::span<A> in, std::span<B> out) {
+  return static_cast<const void*>(in.data()) == static_cast<const void*>(out.data()) || !overlaps(in, out);
+}
+template <class S>
+void compose_records(std::span<const DualQuaternion<S>> a, std::span<const DualQuaternion<S>> b, std::span<DualQuaternion<S>> out) {
+  DQ_PRECONDITION(a.size() == out.size() && b.size() == out.size(), "simd::compose: a, b and out differ in size");
+  DQ_PRECONDITION(same_or_apart(a, out) && same_or_apart(b, out), "simd::compose: out overlaps a or b without being it");
+  dispatch<ComposeRecords<S>>(current_target(), out.size(), a.data(), b.data(), out.data());
+}
+template <class S>
+void inverse_records(std::span<const DualQuaternion<S>> q, std::span<DualQuaternion<S>> out) {
+  DQ_PRECONDITION(q.size() == out.size(), "simd::inverse: q and out differ in size");
+  DQ_PRECONDITION(same_or_apart(q, out), "simd::inverse: out overlaps q without being it");
+  dispatch<InverseRecords<S>>(current_target(), out.size(), q.data(), out.data());
+}
+template <bool Rigid, class S>
+void transform_records(std::span<const DualQuaternion<S>> q, std::span<const Vec3<S>> p, std::span<Vec3<S>> out) {
+  DQ_PRECONDITION(q.size() == out.size() && p.size() == out.size(), "simd::transform_points/directions: q, p and out differ in size");
+  DQ_PRECONDITION(same_or_apart(p, out) && !overlaps(q, out), "simd::transform_points/directions: out overlaps q, or p without being it");
+  dispatch<TransformRecords<Rigid, S>>(current_target(), out.size(), q.data(), p.data(), out.data());
 }
 }  // namespace
 
-void to_rows(std::span<const DualQuaternion<float>> in, Rows out) {
-  dispatch<ToRows<8>>(current_target(), in.size(), floats_of(in), Components<8>{out.rw, out.rx, out.ry, out.rz, out.dw, out.dx, out.dy, out.dz});
+void compose(std::span<const DualQuaternion<float>> a, std::span<const DualQuaternion<float>> b, std::span<DualQuaternion<float>> out) {
+  compose_records(a, b, out);
 }
-void from_rows(ConstRows in, std::span<DualQuaternion<float>> out) {
-  dispatch<FromRows<8>>(current_target(), out.size(), ConstComponents<8>{in.rw, in.rx, in.ry, in.rz, in.dw, in.dx, in.dy, in.dz}, floats_of(out));
+void compose(std::span<const DualQuaternion<double>> a, std::span<const DualQuaternion<double>> b, std::span<DualQuaternion<double>> out) {
+  compose_records(a, b, out);
 }
+void inverse(std::span<const DualQuaternion<float>> q, std::span<DualQuaternion<float>> out) { inverse_records(q, out); }
+void inverse(std::span<const DualQuaternion<double>> q, std::span<DualQuaternion<double>> out) { inverse_records(q, out); }
+void transform_points(std::span<const DualQuaternion<float>> q, std::span<const Vec3<float>> p, std::span<Vec3<float>> out) {
+  transform_records<true>(q, p, out);
+}
+void transform_points(std::span<const DualQuaternion<double>> q, std::span<const Vec3<double>> p, std::span<Vec3<double>> out) {
+  transform_records<true>(q, p, out);
+}
+void transform_directions(std::span<const DualQuaternion<float>> q, std::span<const Vec3<float>> v, std::span<Vec3<float>> out) {
+  transform_records<false>(q, v, out);
+}
+void transform_directions(std::span<const DualQuaternion<double>> q, std::span<const Vec3<double>> v, std::span<Vec3<double>> out) {
+  transform_records<false>(q, v, out);
+}
+
+namespace {
+// Elements read and written as the values they are made of (their components, in order).
+template <class S>
+constexpr bool kMadeOfScalars = sizeof(DualQuaternion<S>) == 8 * sizeof(S) && std::is_trivially_copyable_v<DualQuaternion<S>> &&
+                                sizeof(Quaternion<S>) == 4 * sizeof(S) && std::is_trivially_copyable_v<Quaternion<S>> &&
+                                sizeof(Vec3<S>) == 3 * sizeof(S) && std::is_trivially_copyable_v<Vec3<S>>;
+static_assert(kMadeOfScalars<float> && kMadeOfScalars<double>);
+/// The values of type S that the elements are made of.
+template <class S, class E>
+const S* scalars_of(std::span<const E> e) {
+  return reinterpret_cast<const S*>(e.data());
+}
+template <class S, class E>
+S* scalars_of(std::span<E> e) {
+  return reinterpret_cast<S*>(e.data());
+}
+
+template <class S>
+void dual_quaternions_to_rows(std::span<const DualQuaternion<S>> in, detail::Row8<S> out) {
+  dispatch<ToRows<8, S>>(current_target(), in.size(), scalars_of<S>(in), std::array<S*, 8>{out.rw, out.rx, out.ry, out.rz, out.dw, out.dx, out.dy, out.dz});
+}
+template <class S>
+void dual_quaternions_from_rows(detail::Row8<const S> in, std::span<DualQuaternion<S>> out) {
+  dispatch<FromRows<8, S>>(current_target(), out.size(), std::array<const S*, 8>{in.rw, in.rx, in.ry, in.rz, in.dw, in.dx, in.dy, in.dz},
+                           scalars_of<S>(out));
+}
+template <bool Rigid, class S>
+void transform_each(const DualQuaternion<S>& q, std::span<const Vec3<S>> in, std::span<Vec3<S>> out) {
+  DQ_PRECONDITION(out.size() == in.size(), Rigid ? "simd::transform_points: out and in differ in size"
+                                                 : "simd::transform_directions: out and in differ in size");
+  DQ_PRECONDITION(same_or_apart(in, out), Rigid ? "simd::transform_points: out overlaps in without being it"
+                                                : "simd::transform_directions: out overlaps in without being it");
+  dispatch<TransformEach<Rigid, S>>(current_target(), in.size(), q, in.data(), out.data());
+}
+}  // namespace
+
+void to_rows(std::span<const DualQuaternion<float>> in, Rows out) { dual_quaternions_to_rows(in, out); }
+void from_rows(ConstRows in, std::span<DualQuaternion<float>> out) { dual_quaternions_from_rows(in, out); }
+void to_rows(std::span<const DualQuaternion<double>> in, RowsD out) { dual_quaternions_to_rows(in, out); }
+void from_rows(ConstRowsD in, std::span<DualQuaternion<double>> out) { dual_quaternions_from_rows(in, out); }
 void to_rows(std::span<const Quaternion<float>> in, QuaternionRows<float> out) {
-  dispatch<ToRows<4>>(current_target(), in.size(), floats_of(in), Components<4>{out.w, out.x, out.y, out.z});
+  dispatch<ToRows<4, float>>(current_target(), in.size(), scalars_of<float>(in), std::array<float*, 4>{out.w, out.x, out.y, out.z});
 }
 void from_rows(QuaternionRows<const float> in, std::span<Quaternion<float>> out) {
-  dispatch<FromRows<4>>(current_target(), out.size(), ConstComponents<4>{in.w, in.x, in.y, in.z}, floats_of(out));
+  dispatch<FromRows<4, float>>(current_target(), out.size(), std::array<const float*, 4>{in.w, in.x, in.y, in.z}, scalars_of<float>(out));
 }
-void transform_points(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out) {
-  DQ_PRECONDITION(out.size() == in.size(), "simd::transform_points: out and in differ in size");
-  DQ_PRECONDITION(out.data() == in.data() || !overlaps(in, out), "simd::transform_points: out overlaps in without being it");
-  dispatch<TransformEach<true>>(current_target(), in.size(), q, in.data(), out.data());
+void to_rows(std::span<const Vec3<float>> in, std::array<float*, 3> out) { dispatch<ToRows<3, float>>(current_target(), in.size(), scalars_of<float>(in), out); }
+void from_rows(std::array<const float*, 3> in, std::span<Vec3<float>> out) {
+  dispatch<FromRows<3, float>>(current_target(), out.size(), in, scalars_of<float>(out));
 }
+void to_rows(std::span<const Vec3<double>> in, std::array<double*, 3> out) {
+  dispatch<ToRows<3, double>>(current_target(), in.size(), scalars_of<double>(in), out);
+}
+void from_rows(std::array<const double*, 3> in, std::span<Vec3<double>> out) {
+  dispatch<FromRows<3, double>>(current_target(), out.size(), in, scalars_of<double>(out));
+}
+void transform_points(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out) { transform_each<true>(q, in, out); }
 void transform_directions(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out) {
-  DQ_PRECONDITION(out.size() == in.size(), "simd::transform_directions: out and in differ in size");
-  DQ_PRECONDITION(out.data() == in.data() || !overlaps(in, out), "simd::transform_directions: out overlaps in without being it");
-  dispatch<TransformEach<false>>(current_target(), in.size(), q, in.data(), out.data());
+  transform_each<false>(q, in, out);
 }
-void to_rows(std::span<const Vec3<float>> in, std::array<float*, 3> out) { dispatch<ToRows<3>>(current_target(), in.size(), floats_of(in), out); }
-void from_rows(std::array<const float*, 3> in, std::span<Vec3<float>> out) { dispatch<FromRows<3>>(current_target(), out.size(), in, floats_of(out)); }
+void transform_points(const DualQuaternion<double>& q, std::span<const Vec3<double>> in, std::span<Vec3<double>> out) {
+  transform_each<true>(q, in, out);
+}
+void transform_directions(const DualQuaternion<double>& q, std::span<const Vec3<double>> in, std::span<Vec3<double>> out) {
+  transform_each<false>(q, in, out);
+}
 
 void run(const ForwardKinematicsJob<float>& job) {
   DQ_PRECONDITION(job.validate().ok(), "simd::run on a job that does not validate");

@@ -12,6 +12,16 @@
 #include "dq/anim/forward_kinematics.hpp"
 #include "vector_types.hpp"
 
+/// For the scalar parts of the kernels (their tails, the scalar target): compiled without GCC's SLP
+/// vectorizer, which where FMA is enabled fuses the scalar double formulas (the Hamilton product)
+/// into vfmaddsub despite -ffp-contract=off (docs/design.md), so that the elements they compute
+/// keep the bits of those on the lanes in every build.
+#if defined(__clang__)
+#define DQKIT_NO_SLP
+#else
+#define DQKIT_NO_SLP gnu::optimize("no-tree-slp-vectorize")
+#endif
+
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
 namespace dq::kernels {
 
@@ -57,11 +67,12 @@ struct Lanes {
 /// formulas' constants, but a caller's value (a blend's t, a transform's component) must keep its
 /// sign, as the scalar functions keep it. A shuffle, not s − 0: GCC 12 builds s − 0 lane by lane
 /// (docs/performance.md, "One transform for a cloud of points").
-template <int N>
-[[gnu::always_inline]] inline Lanes<N> splat(float s) {
-  vec<N> v{};
+template <int N, class S>
+[[gnu::always_inline]] inline Lanes<N, S> splat(S s) {
+  using V = vector_of<S, N>;
+  V v{};
   v[0] = s;
-  return [v]<int... E>(std::integer_sequence<int, E...>) { return vec<N>(__builtin_shufflevector(v, v, (E * 0)...)); }(std::make_integer_sequence<int, N>{});
+  return [v]<int... E>(std::integer_sequence<int, E...>) { return V(__builtin_shufflevector(v, v, (E * 0)...)); }(std::make_integer_sequence<int, N>{});
 }
 
 /// Σ c_k x^k on lanes by Estrin's scheme: the pairs c_k + c_(k+1) x, then pairs of those joined
@@ -81,25 +92,38 @@ template <int N, std::size_t K>
   }
   return terms[0];
 }
-template <int N>
-[[gnu::always_inline]] inline Lanes<N> load(const float* p) {
-  return load_as<vec<N>>(p);
+template <int N, class S>
+[[gnu::always_inline]] inline Lanes<N, S> load(const S* p) {
+  return load_as<vector_of<S, N>>(p);
 }
-template <int N>
-[[gnu::always_inline]] inline void store(float* p, const Lanes<N>& x) {
+template <int N, class S>
+[[gnu::always_inline]] inline void store(S* p, const Lanes<N, S>& x) {
   std::memcpy(p, &x.v, sizeof x.v);
 }
 
 /// N dual quaternions from element i of eight component rows, and back.
-template <int N>
-[[gnu::always_inline]] inline DualQuaternion<Lanes<N>> load8(detail::Row8<const float> r, std::size_t i) {
-  return {Quaternion<Lanes<N>>(load<N>(r.rw + i), load<N>(r.rx + i), load<N>(r.ry + i), load<N>(r.rz + i)),
-          Quaternion<Lanes<N>>(load<N>(r.dw + i), load<N>(r.dx + i), load<N>(r.dy + i), load<N>(r.dz + i))};
+template <int N, class S>
+[[gnu::always_inline]] inline DualQuaternion<Lanes<N, S>> load8(detail::Row8<const S> r, std::size_t i) {
+  using Q = Quaternion<Lanes<N, S>>;
+  return {Q(load<N>(r.rw + i), load<N>(r.rx + i), load<N>(r.ry + i), load<N>(r.rz + i)),
+          Q(load<N>(r.dw + i), load<N>(r.dx + i), load<N>(r.dy + i), load<N>(r.dz + i))};
 }
-template <int N>
-[[gnu::always_inline]] inline void store8(detail::Row8<float> r, std::size_t i, const DualQuaternion<Lanes<N>>& q) {
+template <int N, class S>
+[[gnu::always_inline]] inline void store8(detail::Row8<S> r, std::size_t i, const DualQuaternion<Lanes<N, S>>& q) {
   store<N>(r.rw + i, q.real.w), store<N>(r.rx + i, q.real.x), store<N>(r.ry + i, q.real.y), store<N>(r.rz + i, q.real.z);
   store<N>(r.dw + i, q.dual.w), store<N>(r.dx + i, q.dual.x), store<N>(r.dy + i, q.dual.y), store<N>(r.dz + i, q.dual.z);
+}
+
+/// N dual quaternions from their eight component vectors (w, x, y, z real, then dual), and back.
+template <int N, class S>
+[[gnu::always_inline]] inline DualQuaternion<Lanes<N, S>> dual_quaternion_of(const vector_of<S, N>* c) {
+  using Q = Quaternion<Lanes<N, S>>;
+  return {Q(c[0], c[1], c[2], c[3]), Q(c[4], c[5], c[6], c[7])};
+}
+template <int N, class S>
+[[gnu::always_inline]] inline void components_of(const DualQuaternion<Lanes<N, S>>& q, vector_of<S, N>* c) {
+  c[0] = q.real.w.v, c[1] = q.real.x.v, c[2] = q.real.y.v, c[3] = q.real.z.v;
+  c[4] = q.dual.w.v, c[5] = q.dual.x.v, c[6] = q.dual.y.v, c[7] = q.dual.z.v;
 }
 
 /// The batch product (detail::batch_product: detail::dual_product over detail::hamilton) on lanes.

@@ -18,7 +18,6 @@ namespace dq::simd {
 namespace {
 
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
-using kernels::Lanes;
 using kernels::load8;
 using kernels::load_records;
 using kernels::product;
@@ -26,7 +25,6 @@ using kernels::store8;
 using kernels::store_records;
 using kernels::store_streaming;
 using kernels::stream_fence;
-using kernels::vec;
 
 constexpr std::size_t kLanes = DualQuaternionBlocks<float>::poses_per_block;
 
@@ -102,13 +100,9 @@ constexpr std::size_t kFramesKeptJoints = 128;
 template <class S, int N>
 [[gnu::always_inline]] inline void frames_product(std::span<const int> parents, const S* local, S* model, std::size_t first) {
   using V = kernels::vector_of<S, N>;
-  using L = Lanes<N, S>;
   const std::size_t joints = parents.size();
   const bool keep = joints <= kFramesKeptJoints;
   V kept[kFramesKeptJoints][8];
-  auto dual_quaternion = [](const V* c) __attribute__((always_inline)) {
-    return DualQuaternion<L>(Quaternion<L>(c[0], c[1], c[2], c[3]), Quaternion<L>(c[4], c[5], c[6], c[7]));
-  };
   auto at = [&](auto* base, std::size_t joint) __attribute__((always_inline)) {
     return [base, joint, joints, first](int lane) __attribute__((always_inline)) {
       return base + 8 * ((first + static_cast<std::size_t>(lane)) * joints + joint);
@@ -128,9 +122,7 @@ template <class S, int N>
         parent = kept[p];
       else
         load_records<N, 8>(at(model, static_cast<std::size_t>(p)), m);
-      const DualQuaternion<L> q = product(dual_quaternion(parent), dual_quaternion(l));
-      const L* parts[8] = {&q.real.w, &q.real.x, &q.real.y, &q.real.z, &q.dual.w, &q.dual.x, &q.dual.y, &q.dual.z};
-      for (int c = 0; c < 8; ++c) out[c] = parts[c]->v;
+      kernels::components_of(product(kernels::dual_quaternion_of<N, S>(parent), kernels::dual_quaternion_of<N, S>(l)), out);
     }
     store_records<N, 8>(out, at(model, j));
   }
@@ -201,15 +193,9 @@ template Status check_frames(std::span<const int>, std::span<const DualQuaternio
 template Status check_frames(std::span<const int>, std::span<const DualQuaternion<double>>, std::span<const DualQuaternion<double>>);
 
 namespace {
-#if defined(__clang__)
-#define DQKIT_NO_SLP
-#else
-#define DQKIT_NO_SLP gnu::optimize("no-tree-slp-vectorize")
-#endif
 /// Frames [first, frames) on scalars, with the kernels' product (detail::batch_product, which for
-/// double is DualQuaternion<double>'s). Compiled without GCC's SLP vectorizer, which where FMA is
-/// enabled fuses the Hamilton product into vfmaddsub despite -ffp-contract=off (docs/design.md):
-/// the frames left over keep the bits of the frames on the lanes in every build.
+/// double is DualQuaternion<double>'s), without GCC's SLP vectorizer (DQKIT_NO_SLP): the frames
+/// left over keep the bits of the frames on the lanes in every build.
 template <class T>
 [[gnu::noinline, DQKIT_NO_SLP]] void frames_on_scalars(std::span<const int> parents, const DualQuaternion<T>* in,
                                                        DualQuaternion<T>* out, std::size_t first, std::size_t frames) {
@@ -220,7 +206,6 @@ template <class T>
       out[f * joints + j] = p < 0 ? in[f * joints + j] : detail::batch_product(out[f * joints + static_cast<std::size_t>(p)], in[f * joints + j]);
     }
 }
-#undef DQKIT_NO_SLP
 
 /// compute_frames for float and double: whole vectors of frames on the target in use, the frames
 /// left over on scalars.

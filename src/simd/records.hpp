@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
 #include "vector_types.hpp"
@@ -59,13 +60,14 @@ template <class F>
   }
 }
 
-/// N points as three coordinate vectors (x, y, z) and as 3 N floats one point after another (x0 y0
-/// z0 x1 ...), in three whole-vector loads or stores: each vector of one form is two two-source
-/// shuffles of the other form's three (`vpermt2ps` with AVX-512). In the arrays of points of
-/// docs/performance.md ("Arrays of structures in and out") this moved points 1.5-2.7 times as fast
-/// as the records' transpose.
-template <int N>
+/// N points as three coordinate vectors (x, y, z) and as 3 N values of S (float, or double) one
+/// point after another (x0 y0 z0 x1 ...), in three whole-vector loads or stores: each vector of one
+/// form is two two-source shuffles of the other form's three (`vpermt2ps` with AVX-512). In the
+/// arrays of points of docs/performance.md ("Arrays of structures in and out") this moved points
+/// 1.5-2.7 times as fast as the records' transpose.
+template <int N, class S = float>
 struct Points {
+  using V = vector_of<S, N>;
   /// Interleaved vector o's lane e holds coordinate (N o + e) % 3 of point (N o + e) / 3.
   template <int O>
   struct Interleaved {
@@ -89,13 +91,13 @@ struct Points {
   }
   /// Lane e of the result: lane Map::lane(e) of the vector Map::source(e) of (a, b, c).
   template <class Map, int... E>
-  [[gnu::always_inline]] static vec<N> pick(vec<N> a, vec<N> b, vec<N> c, std::integer_sequence<int, E...>) {
-    const vec<N> ab = __builtin_shufflevector(a, b, from_a_or_b<Map>(E)...);
+  [[gnu::always_inline]] static V pick(V a, V b, V c, std::integer_sequence<int, E...>) {
+    const V ab = __builtin_shufflevector(a, b, from_a_or_b<Map>(E)...);
     return __builtin_shufflevector(ab, c, (Map::source(E) == 2 ? N + Map::lane(E) : E)...);
   }
-  [[gnu::always_inline]] static void store(vec<N> x, vec<N> y, vec<N> z, float* out) {
-    vec<N> r0, r1, r2;
-    if constexpr (N == 4) {
+  [[gnu::always_inline]] static void store(V x, V y, V z, S* out) {
+    V r0, r1, r2;
+    if constexpr (N == 4 && std::is_same_v<S, float>) {
       // Written as shuffles of two lanes from each source (`shufps`, `unpcklps`), which SSE2 has:
       // GCC 12 compiles pick's general shuffles for SSE2 into sequences slower than a transpose.
       const float4 d = __builtin_shufflevector(x, y, 2, 6, 3, 7);  // x2 y2 x3 y3
@@ -109,9 +111,9 @@ struct Points {
     // One store each (an array of three, copied whole, left a second copy on the stack).
     std::memcpy(out, &r0, sizeof r0), std::memcpy(out + N, &r1, sizeof r1), std::memcpy(out + 2 * N, &r2, sizeof r2);
   }
-  [[gnu::always_inline]] static void load(const float* in, vec<N>* xyz) {
-    const vec<N> a = load_as<vec<N>>(in), b = load_as<vec<N>>(in + N), c = load_as<vec<N>>(in + 2 * N);
-    if constexpr (N == 4) {  // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3; shuffles of store's kind
+  [[gnu::always_inline]] static void load(const S* in, V* xyz) {
+    const V a = load_as<V>(in), b = load_as<V>(in + N), c = load_as<V>(in + 2 * N);
+    if constexpr (N == 4 && std::is_same_v<S, float>) {  // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3; shuffles of store's kind
       xyz[0] = __builtin_shufflevector(__builtin_shufflevector(a, a, 0, 3, 0, 3), __builtin_shufflevector(b, c, 2, 2, 5, 5), 0, 1, 4, 6);
       xyz[1] = __builtin_shufflevector(__builtin_shufflevector(a, b, 1, 1, 4, 4), __builtin_shufflevector(b, c, 3, 3, 6, 6), 0, 2, 4, 6);
       xyz[2] = __builtin_shufflevector(__builtin_shufflevector(a, b, 2, 2, 5, 5), __builtin_shufflevector(c, c, 0, 3, 0, 3), 0, 2, 4, 5);

@@ -105,41 +105,45 @@ def test_float32_matches_float64(name, rng):
     np.testing.assert_allclose(r32, r64, atol=TOL32 * 4)
 
 
-def test_float32_rows_take_the_vector_kernels_bit_for_bit(rng):
-    """float32 rows of compose, transform_points, transform_directions, normalized, conjugate and dlb
-    (one t) run dq::simd's kernels (in chunks of 256 rows converted on the stack): each row's result
-    is, bit for bit, the one computed for that row alone (fewer rows than a vector: the scalar formula)."""
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_rows_take_the_vector_kernels_bit_for_bit(rng, dtype):
+    """Rows of compose, transform_points, transform_directions and conjugate, in float32 and float64
+    (dq::simd's kernels over arrays of structures, on the rows in place), and float32 rows of
+    normalized and dlb (one t; its kernels over component arrays, in chunks of 256 rows converted on
+    the stack): each row's result is, bit for bit, the one computed for that row alone (a single row
+    runs the scalar function). float64 normalized and dlb run the scalar function on both sides."""
     n = 1003  # three whole chunks and a tail that is no multiple of any vector width
-    a = random_rigid(rng, n)[0].astype(np.float32)
-    b = random_rigid(rng, n)[0].astype(np.float32)
-    p = rng.normal(size=(n, 3)).astype(np.float32)
-    scaled = a * rng.uniform(0.5, 2.0, size=(n, 1)).astype(np.float32)
+    bits = np.uint32 if dtype == np.float32 else np.uint64
+    a = random_rigid(rng, n)[0].astype(dtype)
+    b = random_rigid(rng, n)[0].astype(dtype)
+    p = rng.normal(size=(n, 3)).astype(dtype)
+    scaled = a * rng.uniform(0.5, 2.0, size=(n, 1)).astype(dtype)
     scaled[7, :4] = 0  # normalize's other branches: a zero real part, a NaN, a dual part along the real one
     scaled[300, 5] = np.nan
     scaled[700, 4:] = 3 * scaled[700, :4]
     for f, args in ((dqkit.compose, (a, b)), (dqkit.transform_points, (a, p)), (dqkit.transform_directions, (a, p)),
                     (dqkit.normalized, (scaled,)), (dqkit.conjugate, (scaled,))):
         whole = f(*args)
-        assert whole.dtype == np.float32
+        assert whole.dtype == dtype
         alone = np.array([f(*(x[i] for x in args)) for i in range(n)])
-        np.testing.assert_array_equal(whole.view(np.uint32), alone.view(np.uint32), err_msg=f.__name__)
+        np.testing.assert_array_equal(whole.view(bits), alone.view(bits), err_msg=f.__name__)
     # One transform for every point (a cloud: dq::simd's one-transform kernels, the rows read and
     # written in place): each point bit for bit the point moved alone.
     for f in (dqkit.transform_points, dqkit.transform_directions):
         whole = f(a[5], p)
-        assert whole.dtype == np.float32 and whole.shape == (n, 3)
+        assert whole.dtype == dtype and whole.shape == (n, 3)
         alone = np.array([f(a[5], p[i]) for i in range(n)])
-        np.testing.assert_array_equal(whole.view(np.uint32), alone.view(np.uint32), err_msg=f.__name__ + ", one transform")
+        np.testing.assert_array_equal(whole.view(bits), alone.view(bits), err_msg=f.__name__ + ", one transform")
         # Other shapes of the same call: leading dimensions with q as (1, 8), rows backwards, no rows.
         grid = f(a[5:6], p[:1000].reshape(10, 100, 3))
-        np.testing.assert_array_equal(grid.view(np.uint32), alone[:1000].reshape(10, 100, 3).view(np.uint32))
-        np.testing.assert_array_equal(f(a[5], p[::-1]).view(np.uint32), alone[::-1].view(np.uint32))
+        np.testing.assert_array_equal(grid.view(bits), alone[:1000].reshape(10, 100, 3).view(bits))
+        np.testing.assert_array_equal(f(a[5], p[::-1]).view(bits), alone[::-1].view(bits))
         assert f(a[5], p[:0]).shape == (0, 3)
     for t in (0.3, -0.5, 1.7):  # dlb takes any t (extrapolation too)
         whole = dqkit.dlb(a, scaled, t)
-        assert whole.dtype == np.float32
+        assert whole.dtype == dtype
         alone = np.array([dqkit.dlb(a[i], scaled[i], t) for i in range(n)])
-        np.testing.assert_array_equal(whole.view(np.uint32), alone.view(np.uint32), err_msg=f"dlb, t = {t}")
+        np.testing.assert_array_equal(whole.view(bits), alone.view(bits), err_msg=f"dlb, t = {t}")
 
 
 def test_non_contiguous_inputs_are_read_correctly(rng):

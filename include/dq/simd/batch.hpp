@@ -1,10 +1,12 @@
-// Batch kernels over structure-of-arrays float data, with the instruction set chosen at run time
+// Batch kernels over structure-of-arrays float data (and double, for compose, inverse and the
+// transforms of points and directions), with the instruction set chosen at run time
 // (dqkit::simd). The same formulas as the scalar types (detail::hamilton, detail::dual_product,
 // DualQuaternion::transform_point, normalized, dq::dlb, ...), evaluated on vectors of 4, 8 or 16
-// lanes: compiled once per instruction set in src/simd/batch.cpp and dispatched by what the CPU
-// supports. Every path performs the scalar formula's operations in the same order, without fused
-// multiply-adds, so each lane is bit-identical to the scalar result (tested for every path the CPU
-// has); slerp and sclerp, which evaluate the same function differently, are within a few ulps.
+// float lanes (2, 4 or 8 double ones): compiled once per instruction set in src/simd/batch.cpp and
+// dispatched by what the CPU supports. Every path performs the scalar formula's operations in the
+// same order, without fused multiply-adds, so each lane is bit-identical to the scalar result
+// (tested for every path the CPU has); slerp and sclerp, which evaluate the same function
+// differently, are within a few ulps.
 //
 // Common rules: n may be 0; n need not be a multiple of any vector width (the remainder runs the
 // scalar formula, with the same result); an output may be the very arrays of an input of the same
@@ -64,6 +66,14 @@ using Rows = detail::Row8<float>;
 inline ConstRows rows(const ComponentArrays<float, 8>& c) noexcept { return detail::row_of<const float>(c, 0); }
 inline Rows rows(ComponentArrays<float, 8>& c) noexcept { return detail::row_of<float>(c, 0); }
 
+/// The same in double, for the kernels that have a double form (compose, inverse,
+/// transform_points and transform_directions, and the layout conversions of dual quaternions and
+/// points): 2, 4 or 8 lanes a vector, half as many as float.
+using ConstRowsD = detail::Row8<const double>;
+using RowsD = detail::Row8<double>;
+inline ConstRowsD rows(const ComponentArrays<double, 8>& c) noexcept { return detail::row_of<const double>(c, 0); }
+inline RowsD rows(ComponentArrays<double, 8>& c) noexcept { return detail::row_of<double>(c, 0); }
+
 /// out[i] = a[i] · b[i] for i < n. `out` may be `a` or `b` (element by element); partial overlaps
 /// are not allowed.
 void compose(ConstRows a, ConstRows b, Rows out, std::size_t n);
@@ -92,6 +102,36 @@ void transform_directions(ConstRows q, std::array<const float*, 3> v, std::array
 void transform_points(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out);
 /// The same for directions (R v, rotated only; DualQuaternion::transform_direction bit for bit).
 void transform_directions(const DualQuaternion<float>& q, std::span<const Vec3<float>> in, std::span<Vec3<float>> out);
+
+/// compose, inverse, transform_points and transform_directions in double, with the float
+/// functions' rules, on the lanes of the instruction set in use. Bit for bit the scalar double
+/// functions computed without fused multiply-adds: the scalar functions themselves in a build
+/// without FMA; in one with it (-mfma, -march=native), GCC 12 fuses parts of the scalar double
+/// functions where it inlines them (docs/design.md), and these kernels, whose elements left over
+/// after the whole vectors are computed without that fusion, keep the unfused bits on every target.
+void compose(ConstRowsD a, ConstRowsD b, RowsD out, std::size_t n);
+void inverse(ConstRowsD q, RowsD out, std::size_t n);
+void transform_points(ConstRowsD q, std::array<const double*, 3> p, std::array<double*, 3> out, std::size_t n);
+void transform_directions(ConstRowsD q, std::array<const double*, 3> v, std::array<double*, 3> out, std::size_t n);
+void transform_points(const DualQuaternion<double>& q, std::span<const Vec3<double>> in, std::span<Vec3<double>> out);
+void transform_directions(const DualQuaternion<double>& q, std::span<const Vec3<double>> in, std::span<Vec3<double>> out);
+
+/// compose, inverse, transform_points and transform_directions over arrays of structures, in
+/// float and double: the dual quaternions one after another (a std::vector<DualQuaternion<T>>, a
+/// NumPy (N, 8) array), the points too (Vec3<T>, (N, 3)), each vector of elements loaded by whole
+/// elements and transposed in registers, the results transposed back and stored whole: no
+/// conversion pass to component arrays. Bit for bit the same functions over component arrays
+/// (above). Preconditions: the spans of one call have the same size (checked); an output may be
+/// the very span of an input of its type (element by element; a point output never overlaps q),
+/// not overlap it otherwise (checked).
+void compose(std::span<const DualQuaternion<float>> a, std::span<const DualQuaternion<float>> b, std::span<DualQuaternion<float>> out);
+void compose(std::span<const DualQuaternion<double>> a, std::span<const DualQuaternion<double>> b, std::span<DualQuaternion<double>> out);
+void inverse(std::span<const DualQuaternion<float>> q, std::span<DualQuaternion<float>> out);
+void inverse(std::span<const DualQuaternion<double>> q, std::span<DualQuaternion<double>> out);
+void transform_points(std::span<const DualQuaternion<float>> q, std::span<const Vec3<float>> p, std::span<Vec3<float>> out);
+void transform_points(std::span<const DualQuaternion<double>> q, std::span<const Vec3<double>> p, std::span<Vec3<double>> out);
+void transform_directions(std::span<const DualQuaternion<float>> q, std::span<const Vec3<float>> v, std::span<Vec3<float>> out);
+void transform_directions(std::span<const DualQuaternion<double>> q, std::span<const Vec3<double>> v, std::span<Vec3<double>> out);
 
 /// The 3x4 matrices [R | t] of q[i] for i < n, in twelve arrays: out[c · 3 + r][i] is row r of
 /// column c (the column-major order of Mat34::m, glTF and OpenGL). Bit for bit dq::to_mat34.
@@ -170,6 +210,11 @@ void from_rows(QuaternionRows<const float> in, std::span<Quaternion<float>> out)
 /// Points and directions (x, y, z), as transform_points and transform_directions take them.
 void to_rows(std::span<const Vec3<float>> in, std::array<float*, 3> out);
 void from_rows(std::array<const float*, 3> in, std::span<Vec3<float>> out);
+/// Dual quaternions and points in double.
+void to_rows(std::span<const DualQuaternion<double>> in, RowsD out);
+void from_rows(ConstRowsD in, std::span<DualQuaternion<double>> out);
+void to_rows(std::span<const Vec3<double>> in, std::array<double*, 3> out);
+void from_rows(std::array<const double*, 3> in, std::span<Vec3<double>> out);
 
 /// The batch forward kinematics job with the dispatched product. Precondition: job.validate().
 void run(const ForwardKinematicsJob<float>& job);
