@@ -285,6 +285,7 @@ template <int N, class S>
 template <class S>
 struct ComposeRecords {
   using Scalar = S;
+  static constexpr bool unfused_rest = true;  // batch_product, in float too: the generic formula, which GCC fuses
   static void scalar(std::size_t first, std::size_t last, const DualQuaternion<S>* a, const DualQuaternion<S>* b, DualQuaternion<S>* out) {
     for (std::size_t i = first; i < last; ++i) out[i] = detail::batch_product(a[i], b[i]);
   }
@@ -577,17 +578,24 @@ std::atomic<Target>& active() {
   return t;
 }
 
-/// Elements [first, n) of a kernel in double by its scalar formula: the tail after the whole
-/// vectors, or every element on the scalar target. Out of line and without GCC's SLP vectorizer
-/// (DQKIT_NO_SLP), so that in a build with FMA the elements left to it keep the bits of those on
-/// the lanes: GCC 12 fused the double product there in the frames' scalar tail
-/// (src/simd/pose_blocks.cpp). Here it fused nothing without the attribute either (-mavx2 -mfma:
-/// no FMA instruction in this file's object with or without it); the attribute keeps that from
-/// depending on GCC's inlining. (The float kernels' scalar formulas are written with vector
-/// operations, which are not fused, and run as they are: through this function, in a trial, the
-/// float scalar target ran 1.3 to 5.6 times slower.)
+/// Whether kernel K's elements left to its scalar formula run in scalar_rest: the kernels in double,
+/// and those whose float formula is the generic one (`unfused_rest`). The other float kernels'
+/// scalar formulas are the scalar types' four-lane forms, written with vector operations, which
+/// are not fused; they run as they are (through scalar_rest, in a trial, the float scalar target
+/// ran 1.3 to 5.6 times slower).
+template <class K>
+constexpr bool kRestUnfused = std::is_same_v<typename K::Scalar, double> || requires { requires K::unfused_rest; };
+
+/// Elements [first, n) by kernel K's scalar formula: the tail after the whole vectors, or every
+/// element on the scalar target. Out of line and without GCC's vectorizers (DQKIT_NOT_VECTORIZED),
+/// so that in a build with FMA the elements left to it keep the bits of those on the lanes: GCC 12
+/// fuses the generic scalar product (detail::batch_product) into vfmaddsub despite
+/// -ffp-contract=off (docs/design.md). With -mavx2 -mfma, ComposeRecords' loop of products had 18
+/// fused instructions, from the loop vectorizer (without the SLP vectorizer alone, still 18), and
+/// its elements past the whole vectors differed from the lanes' in float; with both vectorizers
+/// off, none.
 template <class K, class... A>
-[[gnu::noinline, DQKIT_NO_SLP]] void scalar_rest(std::size_t first, std::size_t n, A... args) {
+[[gnu::noinline, DQKIT_NOT_VECTORIZED]] void scalar_rest(std::size_t first, std::size_t n, A... args) {
   K::scalar(first, n, args...);
 }
 
@@ -605,7 +613,7 @@ void dispatch(Target target, std::size_t n, A... args) {
     default: break;
   }
   if (done == n) return;
-  if constexpr (std::is_same_v<typename K::Scalar, double>)
+  if constexpr (kRestUnfused<K>)
     scalar_rest<K>(done, n, args...);
   else
     K::scalar(done, n, args...);

@@ -12,14 +12,15 @@
 #include "dq/anim/forward_kinematics.hpp"
 #include "vector_types.hpp"
 
-/// For the scalar parts of the kernels (their tails, the scalar target): compiled without GCC's SLP
-/// vectorizer, which where FMA is enabled fuses the scalar double formulas (the Hamilton product)
-/// into vfmaddsub despite -ffp-contract=off (docs/design.md), so that the elements they compute
+/// For the scalar parts of the kernels (their tails, the scalar target): compiled without GCC's
+/// vectorizers, which where FMA is enabled fuse the generic scalar formulas (the Hamilton product)
+/// into vfmaddsub despite -ffp-contract=off (docs/design.md): the SLP vectorizer in straight-line
+/// code, and the loop vectorizer in a loop of independent products. So the elements they compute
 /// keep the bits of those on the lanes in every build.
 #if defined(__clang__)
-#define DQKIT_NO_SLP
+#define DQKIT_NOT_VECTORIZED
 #else
-#define DQKIT_NO_SLP gnu::optimize("no-tree-slp-vectorize")
+#define DQKIT_NOT_VECTORIZED gnu::optimize("no-tree-vectorize")
 #endif
 
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)

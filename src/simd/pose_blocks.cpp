@@ -194,10 +194,10 @@ template Status check_frames(std::span<const int>, std::span<const DualQuaternio
 
 namespace {
 /// Frames [first, frames) on scalars, with the kernels' product (detail::batch_product, which for
-/// double is DualQuaternion<double>'s), without GCC's SLP vectorizer (DQKIT_NO_SLP): the frames
+/// double is DualQuaternion<double>'s), without GCC's vectorizers (DQKIT_NOT_VECTORIZED): the frames
 /// left over keep the bits of the frames on the lanes in every build.
 template <class T>
-[[gnu::noinline, DQKIT_NO_SLP]] void frames_on_scalars(std::span<const int> parents, const DualQuaternion<T>* in,
+[[gnu::noinline, DQKIT_NOT_VECTORIZED]] void frames_on_scalars(std::span<const int> parents, const DualQuaternion<T>* in,
                                                        DualQuaternion<T>* out, std::size_t first, std::size_t frames) {
   const std::size_t joints = parents.size();
   for (std::size_t f = first; f < frames; ++f)
