@@ -71,16 +71,18 @@ static int batch_example() {
   dq::simd::to_rows(b, dq::simd::rows(rb));
   dq::simd::compose(dq::simd::rows(ra), dq::simd::rows(rb), dq::simd::rows(ra), n);  // a[i] · b[i], in place
   dq::simd::from_rows(dq::simd::rows(ra), a);                       // the scalar product's bits
+  const std::vector<dq::DualQuaternion<float>> a1 = a;
 
+  dq::simd::compose(a, b, a);                                       // the same on the vectors themselves
   const std::size_t m = 37;
-  std::vector<dq::Vec3<float>> cloud(m);                            // a point cloud (x, y, z each)
-  for (std::size_t i = 0; i < m; ++i) cloud[i] = {float(i), 1, -2};
-  const std::vector<dq::Vec3<float>> cloud0 = cloud;
-  dq::simd::transform_points(a[0], cloud, cloud);                   // moved in place by a[0]
+  std::vector<dq::Vec3<double>> cloud(m);                           // a point cloud (x, y, z each)
+  for (std::size_t i = 0; i < m; ++i) cloud[i] = {double(i), 1, -2};
+  const std::vector<dq::Vec3<double>> cloud0 = cloud;
+  dq::simd::transform_points(a[0].cast<double>(), cloud, cloud);    // moved in place by a[0], in double
 
   bool ok = true;
-  for (std::size_t i = 0; i < n; ++i) ok = ok && a[i] == a0[i] * b[i];
-  for (std::size_t i = 0; i < m; ++i) ok = ok && cloud[i] == a[0].transform_point(cloud0[i]);
+  for (std::size_t i = 0; i < n; ++i) ok = ok && a1[i] == a0[i] * b[i] && a[i] == a1[i] * b[i];
+  for (std::size_t i = 0; i < m; ++i) ok = ok && cloud[i] == a[0].cast<double>().transform_point(cloud0[i]);
   std::printf("batch example: %s\n", ok ? "ok" : "WRONG");
   return ok ? 0 : 1;
 }
