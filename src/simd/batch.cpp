@@ -192,6 +192,15 @@ template <int N>
 // Each names its scalar type (Scalar): the kernels of float and double (S) have N lanes of it on a
 // target, as many as its vectors hold.
 
+/// q applied to v: as a point (Rigid: R v + t) or as a direction (R v), for scalars or lanes.
+template <bool Rigid, class T>
+[[gnu::always_inline]] inline Vec3<T> moved(const DualQuaternion<T>& q, const Vec3<T>& v) {
+  if constexpr (Rigid)
+    return q.transform_point(v);
+  else
+    return q.transform_direction(v);
+}
+
 template <class S>
 struct Compose {
   using Scalar = S;
@@ -227,14 +236,14 @@ struct TransformRows {
   static void scalar(std::size_t first, std::size_t last, detail::Row8<const S> q, Coordinates<const S> p, Coordinates<S> out) {
     for (std::size_t i = first; i < last; ++i) {
       const DualQuaternion<S> t = get(q, i);
-      put(out, i, Rigid ? t.transform_point(get(p, i)) : t.transform_direction(get(p, i)));
+      put(out, i, moved<Rigid>(t, get(p, i)));
     }
   }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
   template <int N>
   [[gnu::always_inline]] static void lanes(std::size_t i, detail::Row8<const S> q, Coordinates<const S> p, Coordinates<S> out) {
     const DualQuaternion<Lanes<N, S>> t = load8<N>(q, i);  // a direction reads the real part only
-    store3<N>(out, i, Rigid ? t.transform_point(load3<N>(p, i)) : t.transform_direction(load3<N>(p, i)));
+    store3<N>(out, i, moved<Rigid>(t, load3<N>(p, i)));
   }
 #endif
 };
@@ -245,7 +254,7 @@ template <bool Rigid, class S>
 struct TransformEach {
   using Scalar = S;
   static void scalar(std::size_t first, std::size_t last, DualQuaternion<S> q, const Vec3<S>* in, Vec3<S>* out) {
-    for (std::size_t i = first; i < last; ++i) out[i] = Rigid ? q.transform_point(in[i]) : q.transform_direction(in[i]);
+    for (std::size_t i = first; i < last; ++i) out[i] = moved<Rigid>(q, in[i]);
   }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
   template <int N>
@@ -256,7 +265,7 @@ struct TransformEach {
     kernels::vector_of<S, N> p[3];
     Points<N, S>::load(&in[i].x, p);  // N points, 3 N values (Vec3<S> is three of them)
     const Vec3<L> v{p[0], p[1], p[2]};
-    const Vec3<L> r = Rigid ? b.transform_point(v) : b.transform_direction(v);
+    const Vec3<L> r = moved<Rigid>(b, v);
     Points<N, S>::store(r.x.v, r.y.v, r.z.v, &out[i].x);
   }
 #endif
@@ -316,7 +325,7 @@ template <bool Rigid, class S>
 struct TransformRecords {
   using Scalar = S;
   static void scalar(std::size_t first, std::size_t last, const DualQuaternion<S>* q, const Vec3<S>* p, Vec3<S>* out) {
-    for (std::size_t i = first; i < last; ++i) out[i] = Rigid ? q[i].transform_point(p[i]) : q[i].transform_direction(p[i]);
+    for (std::size_t i = first; i < last; ++i) out[i] = moved<Rigid>(q[i], p[i]);
   }
 #if DQKIT_VECTOR_EXTENSIONS && defined(__x86_64__)
   template <int N>
@@ -326,7 +335,7 @@ struct TransformRecords {
     Points<N, S>::load(&p[i].x, c);
     const Vec3<L> v{c[0], c[1], c[2]};
     const DualQuaternion<L> t = load_dual_quaternions<N>(q, i);
-    const Vec3<L> r = Rigid ? t.transform_point(v) : t.transform_direction(v);
+    const Vec3<L> r = moved<Rigid>(t, v);
     Points<N, S>::store(r.x.v, r.y.v, r.z.v, &out[i].x);
   }
 #endif
